@@ -1,0 +1,61 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <variant>
+#include <vector>
+
+#include "sim/sim_time.hpp"
+#include "wire/protocol.hpp"
+
+namespace dxlemu::wire {
+
+/// One packet whose header, length and CRC/checksum were verified by a Framer. It is not yet
+/// interpreted: decode_instruction / decode_status turn it into fields.
+struct Frame {
+  Protocol protocol = Protocol::V2;
+  std::uint8_t id = 0;
+  /// The instruction byte; in a Protocol 1.0 status packet this position holds the error byte,
+  /// in a Protocol 2.0 status packet it is 0x55 and the error byte is params[0].
+  std::uint8_t instruction = 0;
+  /// Everything between the instruction byte and the CRC/checksum, with byte stuffing removed
+  /// (except in Fast Sync/Bulk Read replies, which are never stuffed).
+  std::vector<std::uint8_t> params;
+  /// The packet as it was on the wire, header to CRC/checksum.
+  std::vector<std::uint8_t> raw;
+  /// Arrival times (simulated clock) of the packet's first and last byte.
+  sim::SimTime first_byte_at{};
+  sim::SimTime last_byte_at{};
+
+  bool operator==(const Frame&) const = default;
+};
+
+/// What went wrong while framing.
+enum class FramingErrorKind {
+  Garbage,           ///< Bytes that do not start a packet, skipped while searching for a header.
+  BadCheck,          ///< Complete packet whose CRC (2.0) or checksum (1.0) does not match.
+  ImpossibleLength,  ///< Header with a LENGTH no packet can have.
+  Truncated,         ///< Partial packet dropped after the inter-byte timeout.
+};
+
+/// A framing failure. The framer has already resynchronised after it; nothing is to be undone.
+struct FramingError {
+  FramingErrorKind kind = FramingErrorKind::Garbage;
+  Protocol protocol = Protocol::V2;
+  /// Bytes the error covers (for BadCheck the whole packet, for Truncated the partial packet).
+  std::size_t bytes = 0;
+  /// The Packet ID read from the header, unverified (a servo may answer a CRC error with it).
+  std::optional<std::uint8_t> id;
+  /// The instruction byte, unverified, when the header got that far.
+  std::optional<std::uint8_t> instruction;
+  /// Arrival time of the first byte concerned.
+  sim::SimTime at{};
+
+  bool operator==(const FramingError&) const = default;
+};
+
+/// One output of a Framer, in the order the bytes arrived.
+using FramerEvent = std::variant<Frame, FramingError>;
+
+}  // namespace dxlemu::wire

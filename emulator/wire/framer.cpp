@@ -1,0 +1,253 @@
+#include "wire/framer.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "wire/checksum.hpp"
+#include "wire/crc16.hpp"
+#include "wire/stuffing.hpp"
+
+namespace dxlemu::wire {
+namespace {
+
+using sim::SimDuration;
+
+// protocol1.md / protocol2.md "Byte to Byte Time".
+constexpr SimDuration kV1InterByteTimeout = std::chrono::milliseconds(100);
+constexpr SimDuration kV2InterByteTimeout = std::chrono::microseconds(1500);
+
+// A Protocol 2.0 LENGTH is 16 bits, but no ROBOTIS controller sends packets anywhere near that:
+// the DynamixelSDK's buffers hold 1 KiB. We accept packets up to 4 KiB on the wire (e.g. a Sync
+// Write of 4 bytes to all 253 IDs is 1.3 KiB) and call anything longer an impossible length.
+constexpr std::size_t kV2MaxPacketBytes = 4096;
+constexpr std::size_t kV2HeaderIdLengthBytes = 7;  // FF FF FD 00 ID LEN_L LEN_H
+
+// Compaction threshold: resolved bytes are erased from the front of the buffer in batches.
+constexpr std::size_t kCompactBytes = 4096;
+
+}  // namespace
+
+FrameFormat FrameFormat::for_protocol(Protocol protocol) {
+  FrameFormat f;
+  f.protocol = protocol;
+  if (protocol == Protocol::V1) {
+    f.header = {0xFF, 0xFF};
+    f.length_field_bytes = 1;
+    f.min_length = 2;  // instruction + checksum: "Length = number of Parameters + 2"
+    f.max_length = 0xFF;
+    f.check_bytes = 1;
+    f.inter_byte_timeout = kV1InterByteTimeout;
+  } else {
+    f.header = {0xFF, 0xFF, 0xFD, 0x00};
+    f.length_field_bytes = 2;
+    f.min_length = 3;  // instruction + CRC: "Length = the number of Parameters + 3"
+    f.max_length = kV2MaxPacketBytes - kV2HeaderIdLengthBytes;
+    f.check_bytes = 2;
+    f.inter_byte_timeout = kV2InterByteTimeout;
+  }
+  return f;
+}
+
+Framer::Framer(Protocol protocol) : Framer(FrameFormat::for_protocol(protocol)) {}
+
+Framer::Framer(FrameFormat format) : format_(std::move(format)) {}
+
+void Framer::feed(std::span<const std::uint8_t> bytes, sim::SimTime at,
+                  std::vector<FramerEvent>& out) {
+  expire(at, out);
+  if (bytes.empty()) {
+    return;
+  }
+  buf_.insert(buf_.end(), bytes.begin(), bytes.end());
+  times_.insert(times_.end(), bytes.size(), at);
+  last_at_ = at;
+  scan(false, out);
+}
+
+void Framer::expire(sim::SimTime now, std::vector<FramerEvent>& out) {
+  // "If the delay time is over 1.5ms": a gap exactly equal to the timeout is still accepted.
+  if (buffered() > 0 && now - last_at_ > format_.inter_byte_timeout) {
+    scan(true, out);
+  }
+}
+
+std::optional<sim::SimTime> Framer::deadline() const {
+  if (buffered() == 0) {
+    return std::nullopt;
+  }
+  return last_at_ + format_.inter_byte_timeout + SimDuration{1};
+}
+
+std::size_t Framer::find_header(std::size_t from) const {
+  const std::size_t h = format_.header.size();
+  for (std::size_t i = from; i < buf_.size(); ++i) {
+    const std::size_t n = std::min(h, buf_.size() - i);
+    if (std::equal(format_.header.begin(), format_.header.begin() + static_cast<std::ptrdiff_t>(n),
+                   buf_.begin() + static_cast<std::ptrdiff_t>(i))) {
+      return i;  // a full header, or a prefix of one that runs to the end of the buffer
+    }
+  }
+  return buf_.size();
+}
+
+bool Framer::check_ok(std::size_t pos, std::size_t total) const {
+  const std::span<const std::uint8_t> packet(buf_.data() + pos, total);
+  if (format_.protocol == Protocol::V1) {
+    // The checksum covers ID .. last parameter: everything after the header, before the checksum.
+    const std::size_t h = format_.header.size();
+    return v1_checksum(packet.subspan(h, total - h - 1)) == packet[total - 1];
+  }
+  // The CRC covers header .. last parameter, stuffing included; it is sent low byte first.
+  const std::uint16_t crc = crc16(packet.first(total - 2));
+  return packet[total - 2] == (crc & 0xFFU) && packet[total - 1] == (crc >> 8);
+}
+
+Frame Framer::make_frame(std::size_t pos, std::size_t total) const {
+  const std::size_t body = format_.header.size() + 1 + format_.length_field_bytes;
+  const auto first = buf_.begin() + static_cast<std::ptrdiff_t>(pos);
+  Frame frame;
+  frame.protocol = format_.protocol;
+  frame.id = buf_[pos + format_.header.size()];
+  frame.instruction = buf_[pos + body];
+  frame.raw.assign(first, first + static_cast<std::ptrdiff_t>(total));
+  frame.first_byte_at = times_[pos];
+  frame.last_byte_at = times_[pos + total - 1];
+  const std::span<const std::uint8_t> params(buf_.data() + pos + body + 1,
+                                             total - body - 1 - format_.check_bytes);
+  // protocol2.md "Processing Order of Reception": remove stuffing once the CRC matched. Fast
+  // Sync/Bulk Read replies (ID 0xFE, instruction 0x55) are sent unstuffed and must stay as sent.
+  const bool fast_reply =
+      frame.id == kBroadcastId && frame.instruction == to_byte(InstructionCode::Status);
+  if (format_.protocol == Protocol::V2 && !fast_reply) {
+    frame.params = unstuff(params);
+  } else {
+    frame.params.assign(params.begin(), params.end());
+  }
+  return frame;
+}
+
+void Framer::skip_garbage(std::size_t count) {
+  for (std::size_t i = start_; i < start_ + count; ++i) {
+    if (i < quiet_end_) {
+      continue;  // part of a packet an error already reported
+    }
+    if (garbage_count_ == 0) {
+      garbage_at_ = times_[i];
+    }
+    ++garbage_count_;
+  }
+  start_ += count;
+}
+
+void Framer::flush_garbage(std::vector<FramerEvent>& out) {
+  if (garbage_count_ == 0) {
+    return;
+  }
+  FramingError e;
+  e.kind = FramingErrorKind::Garbage;
+  e.protocol = format_.protocol;
+  e.bytes = garbage_count_;
+  e.at = garbage_at_;
+  out.emplace_back(e);
+  garbage_count_ = 0;
+}
+
+void Framer::reject(FramingErrorKind kind, std::size_t pos, std::size_t bytes,
+                    std::vector<FramerEvent>& out) {
+  flush_garbage(out);
+  const std::size_t h = format_.header.size();
+  FramingError e;
+  e.kind = kind;
+  e.protocol = format_.protocol;
+  e.bytes = bytes;
+  e.at = times_[pos];
+  if (pos + h < buf_.size()) {
+    e.id = buf_[pos + h];
+  }
+  const std::size_t instruction_at = pos + h + 1 + format_.length_field_bytes;
+  if (instruction_at < pos + bytes) {
+    e.instruction = buf_[instruction_at];
+  }
+  out.emplace_back(e);
+  // Rescan from the byte after the failed header's first byte; the rejected bytes are not
+  // reported a second time as garbage, but a packet starting inside them is still found.
+  quiet_end_ = std::max(quiet_end_, pos + bytes);
+  start_ = pos + 1;
+}
+
+void Framer::scan(bool stale, std::vector<FramerEvent>& out) {
+  const std::size_t h = format_.header.size();
+  const std::size_t prefix = h + 1 + format_.length_field_bytes;  // header, ID, LENGTH
+  while (start_ < buf_.size()) {
+    const std::size_t pos = find_header(start_);
+    skip_garbage(pos - start_);
+    const std::size_t avail = buf_.size() - pos;
+    if (avail == 0) {
+      break;
+    }
+    if (avail < h) {  // a header prefix at the end of the buffer
+      if (!stale) {
+        break;
+      }
+      skip_garbage(avail);
+      break;
+    }
+    if (avail < prefix) {
+      if (!stale) {
+        break;
+      }
+      reject(FramingErrorKind::Truncated, pos, avail, out);
+      continue;
+    }
+    const std::uint8_t id = buf_[pos + h];
+    if (!is_valid_packet_id(format_.protocol, id)) {
+      skip_garbage(1);  // not a header after all
+      continue;
+    }
+    std::size_t length = buf_[pos + h + 1];
+    if (format_.length_field_bytes == 2) {
+      length |= static_cast<std::size_t>(buf_[pos + h + 2]) << 8;
+    }
+    if (length < format_.min_length || length > format_.max_length) {
+      reject(FramingErrorKind::ImpossibleLength, pos, prefix, out);
+      continue;
+    }
+    const std::size_t total = prefix + length;
+    if (avail < total) {
+      if (!stale) {
+        break;
+      }
+      reject(FramingErrorKind::Truncated, pos, avail, out);
+      continue;
+    }
+    if (!check_ok(pos, total)) {
+      reject(FramingErrorKind::BadCheck, pos, total, out);
+      continue;
+    }
+    flush_garbage(out);
+    out.emplace_back(make_frame(pos, total));
+    start_ = pos + total;
+  }
+  flush_garbage(out);
+  compact();
+}
+
+void Framer::compact() {
+  if (start_ >= buf_.size()) {
+    buf_.clear();
+    times_.clear();
+    start_ = 0;
+    quiet_end_ = 0;
+    return;
+  }
+  if (start_ < kCompactBytes && start_ * 2 < buf_.size()) {
+    return;
+  }
+  const auto n = static_cast<std::ptrdiff_t>(start_);
+  buf_.erase(buf_.begin(), buf_.begin() + n);
+  times_.erase(times_.begin(), times_.begin() + n);
+  quiet_end_ = quiet_end_ > start_ ? quiet_end_ - start_ : 0;
+  start_ = 0;
+}
+
+}  // namespace dxlemu::wire

@@ -1,0 +1,89 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "sim/sim_time.hpp"
+#include "wire/frame.hpp"
+#include "wire/protocol.hpp"
+
+namespace dxlemu::wire {
+
+/// How one protocol lays out a packet, as far as framing needs to know.
+struct FrameFormat {
+  Protocol protocol = Protocol::V2;
+  /// Header bytes (1.0: FF FF; 2.0: FF FF FD 00, the reserved byte included).
+  std::vector<std::uint8_t> header;
+  /// Width of the LENGTH field (1.0: 1 byte; 2.0: 2 bytes, little-endian).
+  std::size_t length_field_bytes = 2;
+  /// Smallest LENGTH value: instruction byte plus the check bytes.
+  std::size_t min_length = 3;
+  /// Largest LENGTH value accepted; a header announcing more is rejected as impossible, so that
+  /// noise cannot make the framer swallow the packets that follow.
+  std::size_t max_length = 0;
+  /// Width of the integrity check (1.0: checksum, 1 byte; 2.0: CRC-16, 2 bytes).
+  std::size_t check_bytes = 2;
+  /// A partial packet is dropped when the gap to the next byte exceeds this (protocol1.md and
+  /// protocol2.md "Byte to Byte Time": 100 ms and 1.5 ms).
+  sim::SimDuration inter_byte_timeout{};
+
+  /// The format of Protocol 1.0 or 2.0 with the defaults documented in docs/wire.md.
+  static FrameFormat for_protocol(Protocol protocol);
+};
+
+/// Incremental framer for one protocol. Accepts bytes split anywhere, several packets per chunk
+/// and garbage around them; yields verified frames and framing errors in arrival order.
+///
+/// After a failed header (invalid ID, impossible length, bad CRC/checksum, timeout) it rescans
+/// from the byte after the failed header's first byte, so a packet that starts inside rejected
+/// bytes is never lost. Time is an input: the framer never reads a clock.
+class Framer {
+ public:
+  /// A framer with the protocol's default format.
+  explicit Framer(Protocol protocol);
+  /// A framer with a custom format (e.g. a smaller max_length in tests).
+  explicit Framer(FrameFormat format);
+
+  /// Consumes `bytes` that arrived at `at` and appends what they complete to `out`. If the bytes
+  /// still buffered are older than the inter-byte timeout, they are resolved first (see expire).
+  void feed(std::span<const std::uint8_t> bytes, sim::SimTime at, std::vector<FramerEvent>& out);
+
+  /// Resolves the buffered bytes if the inter-byte timeout has passed at `now`: complete packets
+  /// inside them are still yielded, the incomplete rest becomes Truncated or Garbage.
+  void expire(sim::SimTime now, std::vector<FramerEvent>& out);
+
+  /// The earliest time at which expire() would drop the buffered partial packet; nullopt when
+  /// nothing is buffered.
+  std::optional<sim::SimTime> deadline() const;
+
+  /// Bytes held while waiting for the rest of a packet.
+  std::size_t buffered() const { return buf_.size() - start_; }
+
+  /// The layout this framer parses.
+  const FrameFormat& format() const { return format_; }
+
+ private:
+  void scan(bool stale, std::vector<FramerEvent>& out);
+  std::size_t find_header(std::size_t from) const;
+  bool check_ok(std::size_t pos, std::size_t total) const;
+  Frame make_frame(std::size_t pos, std::size_t total) const;
+  void skip_garbage(std::size_t count);
+  void reject(FramingErrorKind kind, std::size_t pos, std::size_t bytes,
+              std::vector<FramerEvent>& out);
+  void flush_garbage(std::vector<FramerEvent>& out);
+  void compact();
+
+  FrameFormat format_;
+  std::vector<std::uint8_t> buf_;
+  std::vector<sim::SimTime> times_;  // arrival time of each byte in buf_
+  std::size_t start_ = 0;            // first byte not yet resolved
+  std::size_t quiet_end_ = 0;        // bytes before this were already reported by an error
+  sim::SimTime last_at_{};
+  std::size_t garbage_count_ = 0;  // garbage run not yet reported
+  sim::SimTime garbage_at_{};
+};
+
+}  // namespace dxlemu::wire

@@ -1,0 +1,26 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "wire/protocol.hpp"
+#include "wire/status.hpp"
+
+namespace dxlemu::wire {
+
+/// Builds a complete packet: header, ID, LENGTH, `instruction`, `params`, checksum (1.0) or
+/// stuffing and CRC (2.0). Throws std::invalid_argument when the packet cannot be expressed
+/// (1.0 LENGTH over 255, 2.0 LENGTH over 65535): a caller bug, never a reaction to input.
+std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
+                                        std::uint8_t instruction,
+                                        std::span<const std::uint8_t> params);
+
+/// Builds a status packet (2.0: instruction 0x55 followed by the error byte).
+std::vector<std::uint8_t> encode_status(const StatusPacket& status);
+
+/// Builds the combined Fast Sync/Bulk Read reply: Packet ID 0xFE, each block followed by the
+/// running CRC of the packet so far, the last one being the packet's CRC; never stuffed.
+std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply);
+
+}  // namespace dxlemu::wire

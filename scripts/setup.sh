@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs what dxlemu needs to build and test, from Debian packages only.
+# Does nothing when everything is already installed. Safe to run again.
+set -euo pipefail
+
+# Build tools and libraries. Everything here is required; nothing is downloaded at build time.
+packages=(
+  cmake ninja-build g++ make
+  libboost-dev        # Boost.Asio (header-only), used by emulator/io only
+  nlohmann-json3-dev  # models, configs, the control API
+  catch2              # unit tests (Catch2 v2)
+  libcli11-dev        # command line
+  clang-format        # scripts/test.sh refuses unformatted C++
+  python3             # end-to-end tests and examples (standard library only)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "setup: installing ${missing[*]}" >&2
+sudo=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null 2>&1 || { echo "setup: need root or sudo to install ${missing[*]}" >&2; exit 1; }
+  sudo=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+
+# apt-get update only when the package lists cannot offer what is missing (fresh image, stale lists).
+needs_update=0
+for p in "${missing[@]}"; do
+  if ! apt-cache policy "$p" 2>/dev/null | grep -q 'Candidate: [0-9]'; then
+    needs_update=1
+    break
+  fi
+done
+if [ "$needs_update" -eq 1 ]; then
+  "${sudo[@]}" apt-get update -q
+fi
+"${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
