@@ -12,7 +12,7 @@ struct SimClock {
   using period = std::nano;
   using duration = std::chrono::duration<rep, period>;
   using time_point = std::chrono::time_point<SimClock>;
-  static constexpr bool is_steady = true;
+  static constexpr bool is_steady = true;  // NOLINT(readability-identifier-naming): chrono's name
 };
 
 /// A span of simulated time in integer nanoseconds.

@@ -49,9 +49,6 @@ class ParamWriter {
   std::vector<std::uint8_t> out_;
 };
 
-template <class>
-inline constexpr bool kAlwaysFalse = false;
-
 struct ParamsEncoder {
   ParamWriter& w;
 
@@ -178,7 +175,7 @@ constexpr InstructionCode code_of() {
   } else if constexpr (std::is_same_v<T, BulkWrite>) {
     return InstructionCode::BulkWrite;
   } else {
-    static_assert(kAlwaysFalse<T>, "every Instruction alternative needs a code");
+    static_assert(!std::is_same_v<T, T>, "every Instruction alternative needs a code");
   }
 }
 
