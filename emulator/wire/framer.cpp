@@ -103,25 +103,28 @@ bool Framer::check_ok(std::size_t pos, std::size_t total) const {
 }
 
 Frame Framer::make_frame(std::size_t pos, std::size_t total) const {
-  const std::size_t body = format_.header.size() + 1 + format_.length_field_bytes;
+  const std::size_t body = pos + format_.header.size() + 1 + format_.length_field_bytes;
   const auto first = buf_.begin() + static_cast<std::ptrdiff_t>(pos);
   Frame frame;
   frame.protocol = format_.protocol;
   frame.id = buf_[pos + format_.header.size()];
-  frame.instruction = buf_[pos + body];
   frame.raw.assign(first, first + static_cast<std::ptrdiff_t>(total));
   frame.first_byte_at = times_[pos];
   frame.last_byte_at = times_[pos + total - 1];
-  const std::span<const std::uint8_t> params(buf_.data() + pos + body + 1,
-                                             total - body - 1 - format_.check_bytes);
-  // protocol2.md "Processing Order of Reception": remove stuffing once the CRC matched. Fast
-  // Sync/Bulk Read replies (ID 0xFE, instruction 0x55) are sent unstuffed and must stay as sent.
+  // Instruction and parameters: everything between LENGTH and the check bytes.
+  const std::span<const std::uint8_t> region(buf_.data() + body,
+                                             pos + total - format_.check_bytes - body);
+  frame.instruction = region.front();
+  // protocol2.md "Processing Order of Reception": remove stuffing once the CRC matched, over the
+  // same region the sender stuffed (instruction byte included, as the DynamixelSDK does). Fast
+  // Sync/Bulk Read replies (ID 0xFE, instruction 0x55) are sent unstuffed and stay as sent.
   const bool fast_reply =
       frame.id == kBroadcastId && frame.instruction == to_byte(InstructionCode::Status);
   if (format_.protocol == Protocol::V2 && !fast_reply) {
-    frame.params = unstuff(params);
+    const std::vector<std::uint8_t> plain = unstuff(region);
+    frame.params.assign(plain.begin() + 1, plain.end());
   } else {
-    frame.params.assign(params.begin(), params.end());
+    frame.params.assign(region.begin() + 1, region.end());
   }
   return frame;
 }

@@ -69,6 +69,11 @@ std::vector<std::uint8_t> encode_status(const StatusPacket& status) {
   if (status.protocol == Protocol::V1) {
     return encode_packet(Protocol::V1, status.id, status.error, status.params);
   }
+  if (status.id == kBroadcastId) {
+    // No device answers from the broadcast ID; a 2.0 status from 0xFE is a Fast reply, which is
+    // laid out (and left unstuffed) differently: encode_fast_reply builds those.
+    throw std::invalid_argument("a Protocol 2.0 status packet cannot come from ID 0xFE");
+  }
   std::vector<std::uint8_t> params;
   params.reserve(status.params.size() + 1);
   params.push_back(status.error);

@@ -16,7 +16,8 @@ std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
                                         std::uint8_t instruction,
                                         std::span<const std::uint8_t> params);
 
-/// Builds a status packet (2.0: instruction 0x55 followed by the error byte).
+/// Builds a status packet (2.0: instruction 0x55 followed by the error byte). Throws
+/// std::invalid_argument for a 2.0 status from ID 0xFE: only a Fast reply comes from there.
 std::vector<std::uint8_t> encode_status(const StatusPacket& status);
 
 /// Builds the combined Fast Sync/Bulk Read reply: Packet ID 0xFE, each block followed by the

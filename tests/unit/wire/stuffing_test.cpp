@@ -134,3 +134,23 @@ TEST_CASE("A Fast reply with a wrong embedded CRC is refused naming the block",
   REQUIRE(std::holds_alternative<wire::DecodeError>(decoded));
   CHECK(std::get<wire::DecodeError>(decoded).reason == "fast reply block 1 (ID 3) has a wrong CRC");
 }
+
+TEST_CASE("Unstuffing starts at the instruction byte, where the sender's stuffing starts",
+          "[wire][stuffing]") {
+  // Found by fuzz_wire_v2: instruction 0xFF followed by FF FD forms FF FF FD across the
+  // instruction byte. The sender stuffs it (FF FF FD FD), so the receiver must unstuff there too.
+  const wire::InstructionPacket packet{Protocol::V2, 1,
+                                       wire::UnknownInstruction{0xFF, {0xFF, 0xFD}}};
+  const Bytes bytes = wire::encode_instruction(packet);
+  CHECK(bytes ==
+        Bytes{0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x06, 0x00, 0xFF, 0xFF, 0xFD, 0xFD, 0xF8, 0xD3});
+  const auto decoded = wire::decode_instruction(frame_one(bytes));
+  REQUIRE(std::holds_alternative<wire::InstructionPacket>(decoded));
+  CHECK(std::get<wire::InstructionPacket>(decoded) == packet);
+}
+
+TEST_CASE("A 2.0 status packet from the broadcast ID is refused: only Fast replies come from there",
+          "[wire][stuffing]") {
+  CHECK_THROWS_AS(wire::encode_status({Protocol::V2, 0xFE, 0x00, {}}), std::invalid_argument);
+  CHECK_NOTHROW(wire::encode_status({Protocol::V1, 0xFE, 0x00, {}}));
+}
