@@ -107,4 +107,22 @@ std::vector<GoldenPacket> load_golden_packets() {
   return load_golden_packets(std::string(DXLEMU_TEST_DATA_DIR) + "/golden_packets.txt");
 }
 
+std::vector<GoldenPacket> load_golden_packets(wire::Protocol protocol) {
+  std::vector<GoldenPacket> out;
+  for (auto& p : load_golden_packets()) {
+    if (p.protocol == protocol) {
+      out.push_back(std::move(p));
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> concatenated(const std::vector<GoldenPacket>& packets) {
+  std::vector<std::uint8_t> out;
+  for (const auto& p : packets) {
+    out.insert(out.end(), p.bytes.begin(), p.bytes.end());
+  }
+  return out;
+}
+
 }  // namespace dxlemu::test

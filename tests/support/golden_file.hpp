@@ -27,4 +27,10 @@ std::vector<GoldenPacket> load_golden_packets(const std::string& path);
 /// The golden file of this checkout (tests/data/golden_packets.txt).
 std::vector<GoldenPacket> load_golden_packets();
 
+/// The golden packets of one protocol, in file order.
+std::vector<GoldenPacket> load_golden_packets(wire::Protocol protocol);
+
+/// The bytes of `packets` back to back.
+std::vector<std::uint8_t> concatenated(const std::vector<GoldenPacket>& packets);
+
 }  // namespace dxlemu::test

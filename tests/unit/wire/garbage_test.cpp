@@ -46,12 +46,7 @@ const Bytes kTrickyGarbage = {0x00, 0xFF, 0x12, 0xFF, 0xFF, 0xFD, 0xFD, 0xFF, 0x
 TEST_CASE("Garbage before, between and after golden packets is skipped and counted",
           "[wire][garbage]") {
   for (const auto protocol : {Protocol::V1, Protocol::V2}) {
-    std::vector<test::GoldenPacket> packets;
-    for (auto& p : test::load_golden_packets()) {
-      if (p.protocol == protocol) {
-        packets.push_back(std::move(p));
-      }
-    }
+    const auto packets = test::load_golden_packets(protocol);
     const Bytes junk = {0x13, 0x37, 0x00, 0xFE};
     Bytes stream = junk;
     for (const auto& p : packets) {

@@ -11,20 +11,6 @@ using namespace std::chrono_literals;
 using sim::SimTime;
 using wire::Framer;
 
-namespace {
-
-std::vector<test::GoldenPacket> golden_of(wire::Protocol protocol) {
-  std::vector<test::GoldenPacket> out;
-  for (auto& p : test::load_golden_packets()) {
-    if (p.protocol == protocol) {
-      out.push_back(std::move(p));
-    }
-  }
-  return out;
-}
-
-}  // namespace
-
 TEST_CASE("Every golden packet split at every byte boundary yields the same frame",
           "[wire][split]") {
   for (const auto& p : test::load_golden_packets()) {
@@ -68,11 +54,8 @@ TEST_CASE("Every golden packet fed byte by byte yields the same frame", "[wire][
 TEST_CASE("All golden packets of a protocol back to back in one chunk come out in order",
           "[wire][split]") {
   for (const auto protocol : {wire::Protocol::V1, wire::Protocol::V2}) {
-    const auto packets = golden_of(protocol);
-    std::vector<std::uint8_t> stream;
-    for (const auto& p : packets) {
-      stream.insert(stream.end(), p.bytes.begin(), p.bytes.end());
-    }
+    const auto packets = test::load_golden_packets(protocol);
+    const std::vector<std::uint8_t> stream = test::concatenated(packets);
     Framer framer(protocol);
     std::vector<wire::FramerEvent> events;
     framer.feed(stream, SimTime{}, events);
@@ -89,11 +72,8 @@ TEST_CASE("All golden packets of a protocol back to back in one chunk come out i
 TEST_CASE("A stream cut into chunks of every size from 1 to 17 bytes frames identically",
           "[wire][split]") {
   for (const auto protocol : {wire::Protocol::V1, wire::Protocol::V2}) {
-    const auto packets = golden_of(protocol);
-    std::vector<std::uint8_t> stream;
-    for (const auto& p : packets) {
-      stream.insert(stream.end(), p.bytes.begin(), p.bytes.end());
-    }
+    const auto packets = test::load_golden_packets(protocol);
+    const std::vector<std::uint8_t> stream = test::concatenated(packets);
     for (std::size_t chunk = 1; chunk <= 17; ++chunk) {
       INFO("chunk size " << chunk);
       Framer framer(protocol);
