@@ -1,0 +1,329 @@
+#include "model/control_table.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace dxlemu::model {
+namespace {
+
+constexpr int kNoItem = -1;
+
+std::string describe_item(const ItemSpec& item) {
+  return item.key + " (" + std::to_string(item.address) + ")";
+}
+
+}  // namespace
+
+ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
+    : spec_(std::move(spec)),
+      image_(spec_->table_size(), 0),
+      item_at_(spec_->table_size(), kNoItem),
+      indirect_address_(spec_->table_size(), kNoItem),
+      read_hooks_(spec_->items.size()),
+      write_hooks_(spec_->items.size()),
+      validators_(spec_->items.size()),
+      torque_enable_(spec_->index_of("torque_enable")),
+      lock_(spec_->index_of("lock")) {
+  for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+    const ItemSpec& item = spec_->items[i];
+    std::fill_n(item_at_.begin() + item.address, item.size, static_cast<int>(i));
+  }
+  for (const IndirectBlock& block : spec_->indirect) {
+    for (std::uint16_t i = 0; i < block.count; ++i) {
+      indirect_address_[block.data + i] = item_at_[block.address + 2 * i];
+    }
+  }
+  load_initial(true);
+}
+
+void ControlTable::load_initial(bool eeprom) {
+  // Items that copy another item's value at power-on (AX Torque Limit = Max Torque) read the
+  // value that item has now, so they go second.
+  for (const bool copies : {false, true}) {
+    for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+      const ItemSpec& item = spec_->items[i];
+      if ((item.area == Area::Eeprom && !eeprom) || item.initial_from.has_value() != copies) {
+        continue;
+      }
+      set(i, item.initial_from ? get(*item.initial_from) : item.initial);
+    }
+  }
+}
+
+std::optional<std::uint16_t> ControlTable::resolve(std::uint16_t address) const {
+  if (address >= image_.size()) {
+    return std::nullopt;
+  }
+  // includes/control_table_indirect_data.md: Indirect Data n behaves as the address held in
+  // Indirect Address n. The mapping is read once, not followed again from the target.
+  const int via = indirect_address_[address];
+  if (via == kNoItem) {
+    return address;
+  }
+  const auto target = static_cast<std::uint64_t>(get(static_cast<std::size_t>(via)));
+  if (target >= image_.size()) {
+    return std::nullopt;
+  }
+  return static_cast<std::uint16_t>(target);
+}
+
+TableResult ControlTable::bus_read(std::uint16_t address, std::uint16_t length,
+                                   std::vector<std::uint8_t>& out) {
+  out.clear();
+  if (std::size_t{address} + length > image_.size()) {
+    return TableResult::fail(TableError::Access, "read of " + std::to_string(length) +
+                                                     " bytes from " + std::to_string(address) +
+                                                     " goes past the end of the table (" +
+                                                     std::to_string(image_.size()) + " bytes)");
+  }
+  std::vector<std::uint16_t> targets;
+  targets.reserve(length);
+  for (std::uint16_t a = address; a < address + length; ++a) {
+    const auto target = resolve(a);
+    if (!target) {
+      return TableResult::fail(TableError::Access, "indirect address of " + std::to_string(a) +
+                                                       " points outside the table");
+    }
+    targets.push_back(*target);
+  }
+  // Refresh each touched item once before its bytes are copied.
+  std::vector<bool> refreshed(spec_->items.size(), false);
+  for (const std::uint16_t t : targets) {
+    const int item = item_at_[t];
+    if (item != kNoItem && !refreshed[static_cast<std::size_t>(item)]) {
+      refreshed[static_cast<std::size_t>(item)] = true;
+      for (const ReadHook& hook : read_hooks_[static_cast<std::size_t>(item)]) {
+        hook(static_cast<std::size_t>(item));
+      }
+    }
+  }
+  for (const std::uint16_t t : targets) {
+    out.push_back(image_[t]);
+  }
+  return {};
+}
+
+std::vector<ControlTable::Touched> ControlTable::plan_write(std::uint16_t address,
+                                                            std::span<const std::uint8_t> data,
+                                                            TableResult& result) const {
+  std::vector<Touched> touched;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const std::size_t a = address + i;
+    const auto target = a < image_.size() ? resolve(static_cast<std::uint16_t>(a)) : std::nullopt;
+    if (!target || item_at_[*target] == kNoItem) {
+      result = TableResult::fail(
+          TableError::Access, "address " + std::to_string(a) + " is not an item of " + spec_->name);
+      return {};
+    }
+    const auto item = static_cast<std::size_t>(item_at_[*target]);
+    auto it = std::find_if(touched.begin(), touched.end(),
+                           [&](const Touched& t) { return t.item == item; });
+    if (it == touched.end()) {
+      const ItemSpec& spec = spec_->items[item];
+      const auto first = image_.begin() + static_cast<std::ptrdiff_t>(spec.address);
+      touched.push_back({item, {first, first + spec.size}, 0});
+      it = std::prev(touched.end());
+    }
+    it->bytes[*target - spec_->items[item].address] = data[i];
+    ++it->covered;
+  }
+  std::sort(touched.begin(), touched.end(),
+            [](const Touched& a, const Touched& b) { return a.item < b.item; });
+  return touched;
+}
+
+std::int64_t ControlTable::value_after(std::size_t item,
+                                       const std::vector<Touched>& touched) const {
+  for (const Touched& t : touched) {
+    if (t.item == item) {
+      return decode(spec_->items[item], t.bytes);
+    }
+  }
+  return get(item);
+}
+
+TableResult ControlTable::validate(const std::vector<Touched>& touched,
+                                   wire::Protocol protocol) const {
+  const bool eeprom_is_locked = eeprom_locked();
+  // Access first: a write that touches anything it may not touch fails as a whole with an Access
+  // error, whatever the values (protocol2.md "Error": Access Error).
+  for (const Touched& t : touched) {
+    const ItemSpec& item = spec_->items[t.item];
+    if (item.access == Access::ReadOnly) {
+      return TableResult::fail(TableError::Access, describe_item(item) + " is read-only");
+    }
+    if (item.area == Area::Eeprom && eeprom_is_locked) {
+      return TableResult::fail(TableError::Access,
+                               describe_item(item) + " is in EEPROM, which is locked " +
+                                   (lock_ && get(*lock_) != 0 ? "by Lock" : "while torque is on"));
+    }
+    // 1.0 Lock: once set, it stays set until power is cycled (includes/control_table_lock.md).
+    if (lock_ && t.item == *lock_ && get(*lock_) != 0 && decode(item, t.bytes) == 0) {
+      return TableResult::fail(TableError::Access, "Lock stays 1 until the power is cycled");
+    }
+  }
+  // protocol2.md "Data Length Error": a 2.0 write must cover the whole item. Protocol 1.0 has no
+  // such error; a partial write there changes the bytes it covers (docs/control-table.md).
+  for (const Touched& t : touched) {
+    const ItemSpec& item = spec_->items[t.item];
+    if (protocol == wire::Protocol::V2 && t.covered != item.size) {
+      return TableResult::fail(TableError::DataLength, "write covers " + std::to_string(t.covered) +
+                                                           " of the " + std::to_string(item.size) +
+                                                           " bytes of " + describe_item(item));
+    }
+  }
+  for (const Touched& t : touched) {
+    const ItemSpec& item = spec_->items[t.item];
+    const std::int64_t value = decode(item, t.bytes);
+    if (!item.in_range(value)) {
+      return TableResult::fail(
+          TableError::DataRange,
+          std::to_string(value) + " is outside the range of " + describe_item(item));
+    }
+    // A limit item written in the same packet bounds with its new value.
+    if (item.limit_min) {
+      const std::int64_t bound = value_after(item.limit_min->item, touched);
+      const std::int64_t lo = item.limit_min->negate ? -bound : bound;
+      if (value < lo) {
+        return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is below " +
+                                                            (item.limit_min->negate ? "-" : "") +
+                                                            spec_->items[item.limit_min->item].key +
+                                                            " (" + std::to_string(lo) + ") for " +
+                                                            describe_item(item));
+      }
+    }
+    if (item.limit_max) {
+      const std::int64_t bound = value_after(item.limit_max->item, touched);
+      const std::int64_t hi = item.limit_max->negate ? -bound : bound;
+      if (value > hi) {
+        return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is above " +
+                                                            spec_->items[item.limit_max->item].key +
+                                                            " (" + std::to_string(hi) + ") for " +
+                                                            describe_item(item));
+      }
+    }
+    for (const Validator& v : validators_[t.item]) {
+      TableResult r = v(t.item, value);
+      if (!r.ok()) {
+        return r;
+      }
+    }
+  }
+  return {};
+}
+
+TableResult ControlTable::check_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                      wire::Protocol protocol) const {
+  TableResult result;
+  const std::vector<Touched> touched = plan_write(address, data, result);
+  if (!result.ok()) {
+    return result;
+  }
+  return validate(touched, protocol);
+}
+
+TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                    wire::Protocol protocol) {
+  TableResult result;
+  const std::vector<Touched> touched = plan_write(address, data, result);
+  if (!result.ok()) {
+    return result;
+  }
+  result = validate(touched, protocol);
+  if (!result.ok()) {
+    return result;
+  }
+  std::vector<std::int64_t> old_values;
+  old_values.reserve(touched.size());
+  for (const Touched& t : touched) {
+    const ItemSpec& item = spec_->items[t.item];
+    old_values.push_back(get(t.item));
+    std::copy(t.bytes.begin(), t.bytes.end(), image_.begin() + item.address);
+  }
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    const std::size_t item = touched[i].item;
+    for (const WriteHook& hook : write_hooks_[item]) {
+      hook(item, old_values[i], get(item));
+    }
+  }
+  return {};
+}
+
+bool ControlTable::eeprom_locked() const {
+  if (eeprom_lock_) {
+    return eeprom_lock_();
+  }
+  if (locks_eeprom_with_torque(spec_->family)) {
+    return torque_enable_ && get(*torque_enable_) != 0;
+  }
+  return lock_ && get(*lock_) != 0;
+}
+
+std::int64_t ControlTable::decode(const ItemSpec& item, std::span<const std::uint8_t> bytes) const {
+  std::uint64_t raw = 0;
+  for (std::size_t i = 0; i < item.size; ++i) {
+    raw |= std::uint64_t{bytes[i]} << (8 * i);
+  }
+  if (item.is_signed) {
+    const std::uint64_t sign = std::uint64_t{1} << (8 * item.size - 1);
+    return static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign);
+  }
+  return static_cast<std::int64_t>(raw);
+}
+
+void ControlTable::encode(const ItemSpec& item, std::int64_t value,
+                          std::span<std::uint8_t> out) const {
+  const auto raw = static_cast<std::uint64_t>(value);  // two's complement for negative values
+  for (std::size_t i = 0; i < item.size; ++i) {
+    out[i] = static_cast<std::uint8_t>(raw >> (8 * i));
+  }
+}
+
+std::int64_t ControlTable::get(std::size_t item) const {
+  const ItemSpec& spec = spec_->items.at(item);
+  return decode(spec, std::span(image_).subspan(spec.address, spec.size));
+}
+
+std::int64_t ControlTable::get(std::string_view key) const {
+  return get(index(key));
+}
+
+void ControlTable::set(std::size_t item, std::int64_t value) {
+  const ItemSpec& spec = spec_->items.at(item);
+  const int bits = 8 * spec.size;
+  const std::int64_t lo = spec.is_signed ? -(std::int64_t{1} << (bits - 1)) : 0;
+  const std::int64_t hi =
+      spec.is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
+  if (value < lo || value > hi) {
+    throw std::invalid_argument(std::to_string(value) + " does not fit " + describe_item(spec) +
+                                " (" + std::to_string(spec.size) + " bytes)");
+  }
+  encode(spec, value, std::span(image_).subspan(spec.address, spec.size));
+}
+
+void ControlTable::set(std::string_view key, std::int64_t value) {
+  set(index(key), value);
+}
+
+std::size_t ControlTable::index(std::string_view key) const {
+  const auto i = spec_->index_of(key);
+  if (!i) {
+    throw std::out_of_range(spec_->name + " has no item \"" + std::string(key) + "\"");
+  }
+  return *i;
+}
+
+void ControlTable::on_read(std::string_view key, ReadHook hook) {
+  read_hooks_[index(key)].push_back(std::move(hook));
+}
+
+void ControlTable::on_write(std::string_view key, WriteHook hook) {
+  write_hooks_[index(key)].push_back(std::move(hook));
+}
+
+void ControlTable::add_validator(std::string_view key, Validator validator) {
+  validators_[index(key)].push_back(std::move(validator));
+}
+
+}  // namespace dxlemu::model

@@ -1,0 +1,112 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "model/model_spec.hpp"
+#include "model/table_result.hpp"
+#include "wire/protocol.hpp"
+
+namespace dxlemu::model {
+
+/// The control table of one servo: a little-endian byte image initialised from its model, with
+/// the access rules of the e-Manual enforced on bus reads and writes, Indirect Address/Data, and
+/// hooks through which behaviours and the motion model plug in. Rules and choices:
+/// docs/control-table.md.
+class ControlTable {
+ public:
+  /// Called before a bus read touches the item (to refresh a computed value).
+  using ReadHook = std::function<void(std::size_t item)>;
+  /// Called after a bus write committed the item, with its old and new value.
+  using WriteHook =
+      std::function<void(std::size_t item, std::int64_t old_value, std::int64_t new_value)>;
+  /// An extra rule for an item, checked with the built-in ones before anything is committed.
+  using Validator = std::function<TableResult(std::size_t item, std::int64_t new_value)>;
+  /// Says whether EEPROM items are locked now; replaces the family's rule (2XL430: both axes).
+  using EepromLock = std::function<bool()>;
+
+  /// A table for `spec` with every item at its initial value.
+  explicit ControlTable(std::shared_ptr<const ModelSpec> spec);
+
+  /// The model this table belongs to.
+  const ModelSpec& spec() const { return *spec_; }
+
+  /// Power-on or reboot: RAM items (and EEPROM items too when `eeprom` is true, as a factory reset
+  /// does) return to their initial values. No hooks run.
+  void load_initial(bool eeprom);
+
+  /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
+  /// and a read may start or end inside an item; a read past the end of the table is an Access
+  /// error and yields no data (protocol2.md "Read"). Indirect Data reads the mapped address.
+  TableResult bus_read(std::uint16_t address, std::uint16_t length, std::vector<std::uint8_t>& out);
+
+  /// A bus Write of `data` from `address` under the rules of `protocol`. Every touched item is
+  /// validated first (defined, writable, EEPROM unlocked, whole item in 2.0, range, limit,
+  /// validators); only then is anything written, so a refused write changes nothing. Write hooks
+  /// run after the commit, in address order.
+  TableResult bus_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                        wire::Protocol protocol);
+
+  /// What bus_write would answer, without writing (Reg Write checks its data when it arrives).
+  TableResult check_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                          wire::Protocol protocol) const;
+
+  /// Device side: the value of an item, bypassing hooks.
+  std::int64_t get(std::size_t item) const;
+  /// Device side: the value of the item with `key`. Throws std::out_of_range for an unknown key.
+  std::int64_t get(std::string_view key) const;
+  /// Device side: sets an item, bypassing access rules and hooks (the motion model, the control
+  /// API). Throws std::invalid_argument if the value does not fit the item's size.
+  void set(std::size_t item, std::int64_t value);
+  /// As set(item, value), by key. Throws std::out_of_range for an unknown key.
+  void set(std::string_view key, std::int64_t value);
+
+  /// Index of the item with `key`. Throws std::out_of_range for an unknown key.
+  std::size_t index(std::string_view key) const;
+
+  /// The raw byte image (address 0 up to the end of the last item).
+  std::span<const std::uint8_t> bytes() const { return image_; }
+
+  /// Registers hooks and rules for an item (several per item run in registration order).
+  void on_read(std::string_view key, ReadHook hook);
+  void on_write(std::string_view key, WriteHook hook);
+  void add_validator(std::string_view key, Validator validator);
+  /// Replaces the family's EEPROM lock rule (torque on, or 1.0 Lock) with `lock`.
+  void set_eeprom_lock(EepromLock lock) { eeprom_lock_ = std::move(lock); }
+
+  /// True while EEPROM items refuse bus writes.
+  bool eeprom_locked() const;
+
+ private:
+  struct Touched {
+    std::size_t item;
+    std::vector<std::uint8_t> bytes;  // the item's bytes after the write
+    std::size_t covered = 0;          // how many of them the write supplies
+  };
+
+  std::vector<Touched> plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                  TableResult& result) const;
+  TableResult validate(const std::vector<Touched>& touched, wire::Protocol protocol) const;
+  std::optional<std::uint16_t> resolve(std::uint16_t address) const;
+  std::int64_t decode(const ItemSpec& item, std::span<const std::uint8_t> bytes) const;
+  void encode(const ItemSpec& item, std::int64_t value, std::span<std::uint8_t> out) const;
+  std::int64_t value_after(std::size_t item, const std::vector<Touched>& touched) const;
+
+  std::shared_ptr<const ModelSpec> spec_;
+  std::vector<std::uint8_t> image_;
+  std::vector<int> item_at_;           // address -> item index, -1 for reserved bytes
+  std::vector<int> indirect_address_;  // address -> item index of its Indirect Address, or -1
+  std::vector<std::vector<ReadHook>> read_hooks_;
+  std::vector<std::vector<WriteHook>> write_hooks_;
+  std::vector<std::vector<Validator>> validators_;
+  EepromLock eeprom_lock_;
+  std::optional<std::size_t> torque_enable_;
+  std::optional<std::size_t> lock_;
+};
+
+}  // namespace dxlemu::model

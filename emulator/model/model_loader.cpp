@@ -1,0 +1,439 @@
+#include "model/model_loader.hpp"
+
+#include <algorithm>
+#include <initializer_list>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <utility>
+
+namespace dxlemu::model {
+namespace {
+
+using nlohmann::json;
+
+// Walks a JSON document with the pointer of the current value at hand, so that every refusal
+// names exactly where the problem is.
+class Node {
+ public:
+  Node(const json& value, std::string pointer, const std::string& origin)
+      : value_(value), pointer_(std::move(pointer)), origin_(origin) {}
+
+  [[noreturn]] void fail(const std::string& reason) const {
+    throw ModelError(origin_, pointer_, reason);
+  }
+
+  const std::string& pointer() const { return pointer_; }
+  bool has(const char* key) const { return value_.contains(key); }
+
+  Node at(const char* key) const {
+    if (!value_.contains(key)) {
+      fail(std::string("missing required field \"") + key + "\"");
+    }
+    return child(key);
+  }
+  Node child(const char* key) const {
+    return Node(value_.at(key), pointer_ + "/" + escape(key), origin_);
+  }
+  Node at(std::size_t index) const {
+    return Node(value_.at(index), pointer_ + "/" + std::to_string(index), origin_);
+  }
+
+  void expect_object(std::initializer_list<const char*> allowed) const {
+    if (!value_.is_object()) {
+      fail("must be an object");
+    }
+    for (auto it = value_.begin(); it != value_.end(); ++it) {
+      const std::string& key = it.key();
+      const auto known = [&key](const char* a) { return key == a; };
+      if (std::find_if(allowed.begin(), allowed.end(), known) == allowed.end()) {
+        Node(it.value(), pointer_ + "/" + escape(key), origin_).fail("unknown field");
+      }
+    }
+  }
+  std::size_t array_size() const {
+    if (!value_.is_array()) {
+      fail("must be an array");
+    }
+    return value_.size();
+  }
+  std::string string() const {
+    if (!value_.is_string()) {
+      fail("must be a string");
+    }
+    return value_.get<std::string>();
+  }
+  std::int64_t integer(std::int64_t lo, std::int64_t hi) const {
+    if (!value_.is_number_integer()) {
+      fail("must be an integer");
+    }
+    const auto v = value_.is_number_unsigned()
+                       ? static_cast<std::int64_t>(std::min<std::uint64_t>(
+                             value_.get<std::uint64_t>(),
+                             static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())))
+                       : value_.get<std::int64_t>();
+    if (v < lo || v > hi) {
+      fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
+           std::to_string(v));
+    }
+    return v;
+  }
+  double positive_number() const {
+    if (!value_.is_number() || value_.get<double>() <= 0) {
+      fail("must be a positive number");
+    }
+    return value_.get<double>();
+  }
+  bool boolean() const {
+    if (!value_.is_boolean()) {
+      fail("must be true or false");
+    }
+    return value_.get<bool>();
+  }
+  std::vector<std::string> strings() const {
+    std::vector<std::string> out;
+    for (std::size_t i = 0, n = array_size(); i < n; ++i) {
+      out.push_back(at(i).string());
+    }
+    return out;
+  }
+
+ private:
+  // RFC 6901: "~" and "/" in a key are written "~0" and "~1".
+  static std::string escape(const std::string& key) {
+    std::string out;
+    for (const char c : key) {
+      out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+    }
+    return out;
+  }
+
+  const json& value_;
+  std::string pointer_;
+  const std::string& origin_;
+};
+
+constexpr std::int64_t kU8 = 0xFF;
+constexpr std::int64_t kU16 = 0xFFFF;
+constexpr std::int64_t kU32 = 0xFFFFFFFF;
+
+// The whole range an item of `size` bytes can hold.
+std::pair<std::int64_t, std::int64_t> full_range(std::uint8_t size, bool is_signed) {
+  const int bits = size * 8;
+  if (is_signed) {
+    return {-(std::int64_t{1} << (bits - 1)), (std::int64_t{1} << (bits - 1)) - 1};
+  }
+  return {0, (std::int64_t{1} << bits) - 1};
+}
+
+bool is_snake_case(const std::string& key) {
+  return !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+// Bounds and initial_from name other items; they are resolved once every item is known.
+struct PendingItem {
+  ItemSpec spec;
+  std::string pointer;
+  std::optional<std::string> initial_from;
+  std::optional<std::string> limit_min;
+  std::optional<std::string> limit_max;
+  bool has_initial = false;
+};
+
+PendingItem read_item(const Node& n) {
+  n.expect_object({"key", "name", "address", "size", "access", "area", "initial", "initial_from",
+                   "signed", "min", "max", "values", "limit_min", "limit_max", "unit", "note"});
+  PendingItem p;
+  p.pointer = n.pointer();
+  ItemSpec& s = p.spec;
+  s.key = n.at("key").string();
+  if (!is_snake_case(s.key)) {
+    n.at("key").fail("must be snake_case (a-z, 0-9, _), got \"" + s.key + "\"");
+  }
+  s.name = n.at("name").string();
+  s.address = static_cast<std::uint16_t>(n.at("address").integer(0, kU16));
+  const std::int64_t size = n.at("size").integer(0, kU8);
+  if (size != 1 && size != 2 && size != 4) {
+    n.at("size").fail("must be 1, 2 or 4, got " + std::to_string(size));
+  }
+  s.size = static_cast<std::uint8_t>(size);
+  const std::string access = n.at("access").string();
+  if (access != "R" && access != "RW") {
+    n.at("access").fail("must be \"R\" or \"RW\", got \"" + access + "\"");
+  }
+  s.access = access == "R" ? Access::ReadOnly : Access::ReadWrite;
+  const std::string area = n.at("area").string();
+  if (area != "EEPROM" && area != "RAM") {
+    n.at("area").fail("must be \"EEPROM\" or \"RAM\", got \"" + area + "\"");
+  }
+  s.area = area == "EEPROM" ? Area::Eeprom : Area::Ram;
+  s.is_signed = n.has("signed") && n.child("signed").boolean();
+  const auto [lo, hi] = full_range(s.size, s.is_signed);
+  s.min = n.has("min") ? n.child("min").integer(lo, hi) : lo;
+  s.max = n.has("max") ? n.child("max").integer(lo, hi) : hi;
+  if (s.min > s.max) {
+    n.child("max").fail("is below min (" + std::to_string(s.min) + ")");
+  }
+  if (n.has("values")) {
+    const Node values = n.child("values");
+    for (std::size_t i = 0, count = values.array_size(); i < count; ++i) {
+      s.values.push_back(values.at(i).integer(s.min, s.max));
+    }
+    if (s.values.empty()) {
+      values.fail("must list at least one value");
+    }
+  }
+  if (n.has("initial") == n.has("initial_from")) {
+    n.fail("needs exactly one of \"initial\" and \"initial_from\"");
+  }
+  if (n.has("initial")) {
+    p.has_initial = true;
+    s.initial = n.child("initial").integer(lo, hi);
+    if (!s.in_range(s.initial)) {
+      n.child("initial").fail("value " + std::to_string(s.initial) +
+                              " is outside the item's range");
+    }
+  } else {
+    p.initial_from = n.child("initial_from").string();
+  }
+  if (n.has("limit_min")) {
+    p.limit_min = n.child("limit_min").string();
+  }
+  if (n.has("limit_max")) {
+    p.limit_max = n.child("limit_max").string();
+  }
+  if (n.has("unit")) {
+    s.unit = n.child("unit").string();
+  }
+  if (n.has("note")) {
+    n.child("note").string();
+  }
+  return p;
+}
+
+std::vector<ItemSpec> read_items(const Node& items_node) {
+  std::vector<PendingItem> pending;
+  for (std::size_t i = 0, n = items_node.array_size(); i < n; ++i) {
+    pending.push_back(read_item(items_node.at(i)));
+  }
+  if (pending.empty()) {
+    items_node.fail("must list at least one item");
+  }
+  std::map<std::string, std::size_t> by_key;
+  std::map<std::uint16_t, std::size_t> by_address;
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    const ItemSpec& s = pending[i].spec;
+    const Node n = items_node.at(i);
+    if (const auto [it, fresh] = by_key.emplace(s.key, i); !fresh) {
+      n.at("key").fail("duplicate key \"" + s.key + "\" (also " + pending[it->second].pointer +
+                       ")");
+    }
+    if (const auto [it, fresh] = by_address.emplace(s.address, i); !fresh) {
+      n.at("address").fail("duplicate address " + std::to_string(s.address) + " (also " +
+                           pending[it->second].pointer + ")");
+    }
+  }
+  // Overlap: in address order, each item must end before the next begins.
+  for (auto it = by_address.begin(); std::next(it) != by_address.end(); ++it) {
+    const ItemSpec& a = pending[it->second].spec;
+    const auto& [next_address, next_index] = *std::next(it);
+    if (a.end() > next_address) {
+      items_node.at(next_index)
+          .at("address")
+          .fail("overlaps " + pending[it->second].pointer + " (\"" + a.key + "\", addresses " +
+                std::to_string(a.address) + ".." + std::to_string(a.end() - 1) + ")");
+    }
+  }
+
+  // Items end up in address order; references become indices into that order.
+  std::map<std::string, std::size_t> sorted_index;
+  std::size_t next = 0;
+  for (const auto& [address, i] : by_address) {
+    sorted_index[pending[i].spec.key] = next++;
+  }
+  auto resolve = [&](std::size_t i, const char* field, const std::string& ref) {
+    const bool negate = !ref.empty() && ref.front() == '-';
+    const std::string key = negate ? ref.substr(1) : ref;
+    const auto found = sorted_index.find(key);
+    if (found == sorted_index.end()) {
+      items_node.at(i).at(field).fail("names an unknown item \"" + key + "\"");
+    }
+    return ItemBound{found->second, negate};
+  };
+  std::vector<ItemSpec> items;
+  items.reserve(pending.size());
+  for (const auto& [address, i] : by_address) {
+    PendingItem& p = pending[i];
+    if (p.initial_from) {
+      const ItemBound from = resolve(i, "initial_from", *p.initial_from);
+      if (from.negate) {
+        items_node.at(i).at("initial_from").fail("cannot be negated");
+      }
+      p.spec.initial_from = from.item;
+    }
+    if (p.limit_min) {
+      p.spec.limit_min = resolve(i, "limit_min", *p.limit_min);
+    }
+    if (p.limit_max) {
+      p.spec.limit_max = resolve(i, "limit_max", *p.limit_max);
+    }
+    items.push_back(std::move(p.spec));
+  }
+  // An initial value copied from another item must fit this item's range.
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (items[i].initial_from) {
+      const ItemSpec& from = items[*items[i].initial_from];
+      if (from.initial_from || !items[i].in_range(from.initial)) {
+        items_node.at(by_address.at(items[i].address))
+            .at("initial_from")
+            .fail("\"" + from.key + "\" starts at " + std::to_string(from.initial) +
+                  ", outside this item's range");
+      }
+      items[i].initial = from.initial;
+    }
+  }
+  return items;
+}
+
+// Every indirect block must be backed by its items: 2-byte address items and 1-byte data items.
+void check_indirect(const Node& n, const ModelSpec& spec) {
+  auto item_at = [&](std::uint16_t address) -> const ItemSpec* {
+    for (const ItemSpec& item : spec.items) {
+      if (item.address == address) {
+        return &item;
+      }
+    }
+    return nullptr;
+  };
+  for (std::size_t b = 0; b < spec.indirect.size(); ++b) {
+    const IndirectBlock& block = spec.indirect[b];
+    for (std::uint16_t i = 0; i < block.count; ++i) {
+      const auto address = static_cast<std::uint16_t>(block.address + 2 * i);
+      const auto data = static_cast<std::uint16_t>(block.data + i);
+      const ItemSpec* a = item_at(address);
+      const ItemSpec* d = item_at(data);
+      if (a == nullptr || a->size != 2 || d == nullptr || d->size != 1) {
+        n.at(b).fail("entry " + std::to_string(i) + " needs a 2-byte item at " +
+                     std::to_string(address) + " and a 1-byte item at " + std::to_string(data));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ModelSpec model_from_json(const json& document, const std::string& origin) {
+  const Node root(document, "", origin);
+  root.expect_object({"$schema", "name", "title", "model_number", "firmware_version", "family",
+                      "protocols", "default_id", "baud_rates", "default_baud_index",
+                      "return_delay_unit_us", "timing", "motion", "indirect", "axes",
+                      "shared_items", "source", "notes", "items"});
+  ModelSpec spec;
+  spec.name = root.at("name").string();
+  spec.title = root.at("title").string();
+  spec.model_number = static_cast<std::uint16_t>(root.at("model_number").integer(0, kU16));
+  spec.firmware_version = static_cast<std::uint8_t>(root.at("firmware_version").integer(0, kU8));
+  const std::string family = root.at("family").string();
+  const auto f = family_from_name(family);
+  if (!f) {
+    root.at("family").fail("unknown family \"" + family +
+                           "\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro)");
+  }
+  spec.family = *f;
+
+  const Node protocols = root.at("protocols");
+  for (std::size_t i = 0, n = protocols.array_size(); i < n; ++i) {
+    const auto p = static_cast<wire::Protocol>(protocols.at(i).integer(1, 2));
+    if (std::find(spec.protocols.begin(), spec.protocols.end(), p) != spec.protocols.end()) {
+      protocols.at(i).fail("lists a protocol twice");
+    }
+    spec.protocols.push_back(p);
+  }
+  if (spec.protocols.empty()) {
+    protocols.fail("must list at least one protocol");
+  }
+  spec.default_id = static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::kMaxIdV1));
+
+  const Node bauds = root.at("baud_rates");
+  for (std::size_t i = 0, n = bauds.array_size(); i < n; ++i) {
+    const Node b = bauds.at(i);
+    b.expect_object({"index", "bps"});
+    const BaudRate rate{b.at("index").integer(0, kU32),
+                        static_cast<std::uint32_t>(b.at("bps").integer(1, kU32))};
+    if (spec.bps_for_index(rate.index)) {
+      b.at("index").fail("lists index " + std::to_string(rate.index) + " twice");
+    }
+    spec.baud_rates.push_back(rate);
+  }
+  spec.default_baud_index = root.at("default_baud_index").integer(0, kU32);
+  if (!spec.bps_for_index(spec.default_baud_index)) {
+    root.at("default_baud_index").fail("is not an index of baud_rates");
+  }
+  spec.return_delay_unit_us =
+      static_cast<std::uint32_t>(root.at("return_delay_unit_us").integer(1, kU16));
+
+  const Node timing = root.at("timing");
+  timing.expect_object({"ping_us", "read_us", "write_us", "write_per_byte_us", "boot_ms"});
+  auto micros = [&](const char* key) {
+    return static_cast<std::uint32_t>(timing.at(key).integer(0, kU32));
+  };
+  spec.timing = {micros("ping_us"), micros("read_us"), micros("write_us"),
+                 micros("write_per_byte_us"), micros("boot_ms")};
+
+  const Node motion = root.at("motion");
+  motion.expect_object({"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma",
+                        "no_load_speed_rpm", "stall_torque_nm"});
+  spec.motion.degrees_per_pulse = motion.at("degrees_per_pulse").positive_number();
+  spec.motion.velocity_unit_rpm = motion.at("velocity_unit_rpm").positive_number();
+  auto optional_number = [&](const char* key) -> std::optional<double> {
+    return motion.has(key) ? std::optional(motion.child(key).positive_number()) : std::nullopt;
+  };
+  spec.motion.current_unit_ma = optional_number("current_unit_ma");
+  spec.motion.no_load_speed_rpm = optional_number("no_load_speed_rpm");
+  spec.motion.stall_torque_nm = optional_number("stall_torque_nm");
+
+  spec.source = root.at("source").string();
+  if (root.has("notes")) {
+    spec.notes = root.child("notes").strings();
+  }
+  spec.items = read_items(root.at("items"));
+
+  if (root.has("indirect")) {
+    const Node blocks = root.child("indirect");
+    for (std::size_t i = 0, n = blocks.array_size(); i < n; ++i) {
+      const Node b = blocks.at(i);
+      b.expect_object({"address", "data", "count"});
+      spec.indirect.push_back({static_cast<std::uint16_t>(b.at("address").integer(0, kU16)),
+                               static_cast<std::uint16_t>(b.at("data").integer(0, kU16)),
+                               static_cast<std::uint16_t>(b.at("count").integer(1, kU16))});
+    }
+    check_indirect(blocks, spec);
+  }
+  if (root.has("axes")) {
+    spec.axes = static_cast<std::uint8_t>(root.child("axes").integer(1, 2));
+  }
+  if (root.has("shared_items")) {
+    const Node shared = root.child("shared_items");
+    spec.shared_items = shared.strings();
+    for (std::size_t i = 0; i < spec.shared_items.size(); ++i) {
+      if (!spec.find(spec.shared_items[i])) {
+        shared.at(i).fail("names an unknown item \"" + spec.shared_items[i] + "\"");
+      }
+    }
+  }
+  return spec;
+}
+
+ModelSpec parse_model(std::string_view json_text, const std::string& origin) {
+  json document;
+  try {
+    document = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    throw ModelError(origin, "", std::string("not valid JSON: ") + e.what());
+  }
+  return model_from_json(document, origin);
+}
+
+}  // namespace dxlemu::model

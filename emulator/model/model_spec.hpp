@@ -1,0 +1,130 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "wire/protocol.hpp"
+
+namespace dxlemu::model {
+
+/// Behaviour family: which rules of the e-Manual a model follows beyond its control table.
+enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro };
+
+/// The family's name in model files ("x", "mx2", ...).
+std::string_view family_name(Family family);
+
+/// The family named `name`, or nullopt.
+std::optional<Family> family_from_name(std::string_view name);
+
+/// True for the families that lock EEPROM items while Torque Enable is 1 (X, MX 2.0, XL-320, P,
+/// PRO: includes/control_table.md); the Protocol 1.0 families lock through Lock(47) instead.
+bool locks_eeprom_with_torque(Family family);
+
+/// Where an item lives: EEPROM keeps its value across power cycles and is write-locked while
+/// torque is on; RAM returns to its initial value at power-on.
+enum class Area { Eeprom, Ram };
+
+/// Whether the bus may write an item.
+enum class Access { ReadOnly, ReadWrite };
+
+/// Another item bounding an item's value (e.g. Goal Position within Max Position Limit), possibly
+/// negated (Goal PWM >= -PWM Limit).
+struct ItemBound {
+  std::size_t item = 0;  ///< index into ModelSpec::items
+  bool negate = false;
+};
+
+/// One control-table item as the model file describes it.
+struct ItemSpec {
+  std::string key;   ///< snake_case of the e-Manual name, unique per model
+  std::string name;  ///< the e-Manual name
+  std::uint16_t address = 0;
+  std::uint8_t size = 1;  ///< bytes: 1, 2 or 4
+  Access access = Access::ReadWrite;
+  Area area = Area::Ram;
+  bool is_signed = false;
+  std::int64_t initial = 0;
+  std::optional<std::size_t> initial_from;  ///< copy this item's value at power-on instead
+  std::int64_t min = 0;                     ///< static range: Data Range Error outside
+  std::int64_t max = 0;
+  std::vector<std::int64_t> values;    ///< when not empty: the only accepted values
+  std::optional<ItemBound> limit_min;  ///< dynamic limits: Data Limit Error beyond
+  std::optional<ItemBound> limit_max;
+  std::string unit;
+
+  /// One past the item's last byte.
+  std::size_t end() const { return std::size_t{address} + size; }
+  /// True when `value` is in the static range and, if listed, among `values`.
+  bool in_range(std::int64_t value) const;
+};
+
+/// An Indirect Address/Data block: Indirect Data `data + i` behaves as the control-table address
+/// held in the 2-byte item at `address + 2 * i`, for i < count
+/// (includes/control_table_indirect_data.md).
+struct IndirectBlock {
+  std::uint16_t address = 0;
+  std::uint16_t data = 0;
+  std::uint16_t count = 0;
+};
+
+/// One Baud Rate item value and the bit rate it selects.
+struct BaudRate {
+  std::int64_t index = 0;
+  std::uint32_t bps = 0;
+};
+
+/// Processing time before a reply starts, per instruction kind (microseconds), and the silence
+/// after Reboot or power-on (milliseconds).
+struct Timing {
+  std::uint32_t ping_us = 0;
+  std::uint32_t read_us = 0;
+  std::uint32_t write_us = 0;
+  std::uint32_t write_per_byte_us = 0;
+  std::uint32_t boot_ms = 0;
+};
+
+/// Parameters of the motion model. Optional figures are absent when no source stated them.
+struct MotionSpec {
+  double degrees_per_pulse = 0;
+  double velocity_unit_rpm = 0;
+  std::optional<double> current_unit_ma;
+  std::optional<double> no_load_speed_rpm;
+  std::optional<double> stall_torque_nm;
+};
+
+/// Everything the emulator knows about one DYNAMIXEL model, loaded from its model file.
+struct ModelSpec {
+  std::string name;   ///< e.g. "xm430-w350": the name used in the CLI, configs and the API
+  std::string title;  ///< e.g. "XM430-W350"
+  std::uint16_t model_number = 0;
+  std::uint8_t firmware_version = 0;
+  Family family = Family::X;
+  std::vector<wire::Protocol> protocols;  ///< default first
+  std::uint8_t default_id = 1;
+  std::vector<BaudRate> baud_rates;
+  std::int64_t default_baud_index = 0;
+  std::uint32_t return_delay_unit_us = 2;
+  Timing timing;
+  MotionSpec motion;
+  std::vector<IndirectBlock> indirect;
+  std::uint8_t axes = 1;
+  std::vector<std::string> shared_items;
+  std::string source;
+  std::vector<std::string> notes;
+  std::vector<ItemSpec> items;  ///< in address order
+
+  /// The item with `key`, or nullptr.
+  const ItemSpec* find(std::string_view key) const;
+  /// Index of the item with `key`, or nullopt.
+  std::optional<std::size_t> index_of(std::string_view key) const;
+  /// One past the highest address of any item: the size of the control table's byte image.
+  std::size_t table_size() const;
+  /// The bit rate of a Baud Rate item value, or nullopt if the model does not offer it.
+  std::optional<std::uint32_t> bps_for_index(std::int64_t index) const;
+};
+
+}  // namespace dxlemu::model

@@ -1,0 +1,158 @@
+// The model loader accepts the documented format and refuses anything else, naming the file, the
+// JSON pointer and the reason (docs/model-format.md "Refusals").
+#include <catch2/catch.hpp>
+
+#include "model/model_loader.hpp"
+#include "test_model.hpp"
+
+using namespace dxlemu;
+using nlohmann::json;
+
+namespace {
+
+// The error a modified test model raises, as "POINTER: REASON".
+std::string refusal(const std::function<void(json&)>& change) {
+  json j = test::test_model_json();
+  change(j);
+  try {
+    model::model_from_json(j, "bad.json");
+  } catch (const model::ModelError& e) {
+    CHECK(e.origin() == "bad.json");
+    CHECK(std::string(e.what()) ==
+          "bad.json: " + (e.pointer().empty() ? std::string("/") : e.pointer()) + ": " +
+              e.reason());
+    return e.pointer() + ": " + e.reason();
+  }
+  return "accepted";
+}
+
+json& item(json& j, const std::string& key) {
+  for (json& i : j["items"]) {
+    if (i["key"] == key) {
+      return i;
+    }
+  }
+  throw std::logic_error("no item " + key);
+}
+
+}  // namespace
+
+TEST_CASE("A valid model file loads with every field", "[model][loader]") {
+  const auto spec = test::test_model();
+  CHECK(spec->name == "test-x");
+  CHECK(spec->model_number == 4242);
+  CHECK(spec->family == model::Family::X);
+  CHECK(spec->protocols == std::vector{wire::Protocol::V2, wire::Protocol::V1});
+  CHECK(spec->bps_for_index(1) == std::optional<std::uint32_t>(57600));
+  CHECK(!spec->bps_for_index(2));
+  CHECK(spec->table_size() == 60);
+  CHECK(spec->items.size() == 19);
+  const auto& goal_pwm = *spec->find("goal_pwm");
+  CHECK(goal_pwm.is_signed);
+  CHECK(goal_pwm.initial == 885);  // initial_from pwm_limit
+  REQUIRE(goal_pwm.limit_min);
+  CHECK(goal_pwm.limit_min->negate);
+  CHECK(spec->items[goal_pwm.limit_min->item].key == "pwm_limit");
+  CHECK(spec->find("model_number")->max == 65535);  // default: the whole width
+  CHECK(spec->find("present_velocity")->min == -2147483648LL);
+}
+
+TEST_CASE("Items come out in address order whatever the file order", "[model][loader]") {
+  json j = test::test_model_json();
+  std::reverse(j["items"].begin(), j["items"].end());
+  const auto spec = model::model_from_json(j, "reversed.json");
+  for (std::size_t i = 1; i < spec.items.size(); ++i) {
+    CHECK(spec.items[i - 1].address < spec.items[i].address);
+  }
+  CHECK(spec.items[spec.find("goal_position")->limit_max->item].key == "max_position_limit");
+}
+
+TEST_CASE("The loader refuses malformed JSON and missing or unknown fields", "[model][loader]") {
+  CHECK_THROWS_WITH(model::parse_model("{\"name\": ", "broken.json"),
+                    Catch::StartsWith("broken.json: /: not valid JSON"));
+  CHECK(refusal([](json& j) { j.erase("model_number"); }) ==
+        ": missing required field \"model_number\"");
+  CHECK(refusal([](json& j) { j["model_number"] = "1020"; }) ==
+        "/model_number: must be an integer");
+  CHECK(refusal([](json& j) { j["model_number"] = 70000; }) ==
+        "/model_number: must be between 0 and 65535, got 70000");
+  CHECK(refusal([](json& j) { item(j, "id")["sise"] = 1; }) == "/items/1/sise: unknown field");
+  CHECK(refusal([](json& j) { j["colour"] = "red"; }) == "/colour: unknown field");
+}
+
+TEST_CASE("The loader refuses an unknown family", "[model][loader]") {
+  CHECK(refusal([](json& j) { j["family"] = "dx"; }) ==
+        "/family: unknown family \"dx\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro)");
+}
+
+TEST_CASE("The loader refuses an unsupported item size", "[model][loader]") {
+  CHECK(refusal([](json& j) { item(j, "id")["size"] = 3; }) ==
+        "/items/1/size: must be 1, 2 or 4, got 3");
+}
+
+TEST_CASE("The loader refuses overlapping items", "[model][loader]") {
+  // PWM Limit is 2 bytes at 12; an item at 13 overlaps it.
+  CHECK(refusal([](json& j) { item(j, "max_position_limit")["address"] = 13; }) ==
+        "/items/4/address: overlaps /items/3 (\"pwm_limit\", addresses 12..13)");
+}
+
+TEST_CASE("The loader refuses a duplicate key or address", "[model][loader]") {
+  CHECK(refusal([](json& j) { item(j, "operating_mode")["key"] = "id"; }) ==
+        "/items/2/key: duplicate key \"id\" (also /items/1)");
+  CHECK(refusal([](json& j) { item(j, "operating_mode")["address"] = 7; }) ==
+        "/items/2/address: duplicate address 7 (also /items/1)");
+}
+
+TEST_CASE("The loader refuses an initial value outside the item's range", "[model][loader]") {
+  CHECK(refusal([](json& j) { item(j, "id")["initial"] = 253; }) ==
+        "/items/1/initial: value 253 is outside the item's range");
+  CHECK(refusal([](json& j) { item(j, "operating_mode")["initial"] = 2; }) ==
+        "/items/2/initial: value 2 is outside the item's range");
+  CHECK(refusal([](json& j) { item(j, "id")["initial"] = 300; }) ==
+        "/items/1/initial: must be between 0 and 255, got 300");
+  CHECK(refusal([](json& j) { item(j, "pwm_limit")["initial"] = 900; }) ==
+        "/items/3/initial: value 900 is outside the item's range");
+}
+
+TEST_CASE("The loader refuses a bound or initial_from naming an unknown item", "[model][loader]") {
+  CHECK(refusal([](json& j) { item(j, "goal_position")["limit_max"] = "max_pos_limit"; }) ==
+        "/items/8/limit_max: names an unknown item \"max_pos_limit\"");
+  CHECK(refusal([](json& j) { item(j, "goal_pwm")["limit_min"] = "-pwm_limits"; }) ==
+        "/items/7/limit_min: names an unknown item \"pwm_limits\"");
+  CHECK(refusal([](json& j) { item(j, "goal_pwm")["initial_from"] = "nothing"; }) ==
+        "/items/7/initial_from: names an unknown item \"nothing\"");
+  CHECK(refusal([](json& j) { item(j, "goal_pwm")["initial"] = 0; }) ==
+        "/items/7: needs exactly one of \"initial\" and \"initial_from\"");
+}
+
+TEST_CASE("The loader refuses a default baud index that is not in the table", "[model][loader]") {
+  CHECK(refusal([](json& j) { j["default_baud_index"] = 2; }) ==
+        "/default_baud_index: is not an index of baud_rates");
+  CHECK(refusal([](json& j) { j["baud_rates"][1]["index"] = 0; }) ==
+        "/baud_rates/1/index: lists index 0 twice");
+}
+
+TEST_CASE("The loader refuses an indirect block its items do not back", "[model][loader]") {
+  CHECK(refusal([](json& j) { j["indirect"][0]["count"] = 5; }) ==
+        "/indirect/0: entry 4 needs a 2-byte item at 48 and a 1-byte item at 54");
+}
+
+TEST_CASE("The loader refuses other malformed values", "[model][loader]") {
+  CHECK(refusal([](json& j) { item(j, "id")["access"] = "W"; }) ==
+        "/items/1/access: must be \"R\" or \"RW\", got \"W\"");
+  CHECK(refusal([](json& j) { item(j, "id")["area"] = "ROM"; }) ==
+        "/items/1/area: must be \"EEPROM\" or \"RAM\", got \"ROM\"");
+  CHECK(refusal([](json& j) { item(j, "id")["key"] = "Id"; }) ==
+        "/items/1/key: must be snake_case (a-z, 0-9, _), got \"Id\"");
+  CHECK(refusal([](json& j) {
+          item(j, "id")["min"] = 10;
+          item(j, "id")["max"] = 5;
+        }) == "/items/1/max: is below min (10)");
+  CHECK(refusal([](json& j) {
+          j["protocols"] = json::array({2, 2});
+        }) == "/protocols/1: lists a protocol twice");
+  CHECK(refusal([](json& j) { j["motion"]["degrees_per_pulse"] = 0; }) ==
+        "/motion/degrees_per_pulse: must be a positive number");
+  CHECK(refusal([](json& j) { j["items"] = json::array(); }) ==
+        "/items: must list at least one item");
+}
