@@ -1,0 +1,113 @@
+#include "app/model_library.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "model/model_error.hpp"
+#include "model/model_loader.hpp"
+
+namespace dxlemu::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw model::ModelError(path.string(), "", "cannot be read");
+  }
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::shared_ptr<const model::ModelSpec> load_file(const fs::path& path) {
+  return std::make_shared<const model::ModelSpec>(
+      model::parse_model(read_file(path), path.string()));
+}
+
+}  // namespace
+
+ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
+                                const std::vector<fs::path>& extra_dirs) {
+  ModelLibrary library;
+  const fs::path catalog_path = shipped_dir / "catalog.json";
+  nlohmann::json catalog;
+  try {
+    catalog = nlohmann::json::parse(read_file(catalog_path));
+  } catch (const nlohmann::json::exception& e) {
+    throw model::ModelError(catalog_path.string(), "", std::string("not valid JSON: ") + e.what());
+  }
+  const auto* entries = catalog.contains("models") ? &catalog["models"] : nullptr;
+  if (entries == nullptr || !entries->is_array()) {
+    throw model::ModelError(catalog_path.string(), "/models", "must be an array");
+  }
+  for (std::size_t i = 0; i < entries->size(); ++i) {
+    const auto& entry = (*entries)[i];
+    if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string()) {
+      throw model::ModelError(catalog_path.string(), "/models/" + std::to_string(i) + "/file",
+                              "must be a string");
+    }
+    const fs::path file = shipped_dir / entry["file"].get<std::string>();
+    library.add(load_file(file), file.string());
+  }
+  for (const fs::path& dir : extra_dirs) {
+    if (!fs::is_directory(dir)) {
+      throw model::ModelError(dir.string(), "", "is not a directory");
+    }
+    std::vector<fs::path> files;
+    for (const auto& f : fs::directory_iterator(dir)) {
+      if (f.path().extension() == ".json" && f.path().filename() != "catalog.json") {
+        files.push_back(f.path());
+      }
+    }
+    std::sort(files.begin(), files.end());  // deterministic: directory order is not
+    for (const fs::path& file : files) {
+      auto spec = load_file(file);
+      library.models_.erase(spec->name);  // a user's file replaces the shipped model of its name
+      library.add(std::move(spec), file.string());
+    }
+  }
+  return library;
+}
+
+void ModelLibrary::add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin) {
+  for (const auto& [name, other] : models_) {
+    if (other->model_number == spec->model_number) {
+      throw model::ModelError(origin, "/model_number",
+                              "model number " + std::to_string(spec->model_number) +
+                                  " is already used by " + name + " (" + origins_.at(name) + ")");
+    }
+  }
+  if (models_.count(spec->name) != 0) {
+    throw model::ModelError(origin, "/name", "a model named " + spec->name + " is already loaded");
+  }
+  origins_[spec->name] = origin;
+  models_.emplace(spec->name, std::move(spec));
+}
+
+std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& name) const {
+  const auto it = models_.find(name);
+  return it == models_.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number) const {
+  for (const auto& [name, spec] : models_) {
+    if (spec->model_number == number) {
+      return spec;
+    }
+  }
+  return nullptr;
+}
+
+fs::path shipped_models_dir() {
+  if (const char* dir = std::getenv("DXLEMU_MODELS_DIR"); dir != nullptr && *dir != '\0') {
+    return dir;
+  }
+  return DXLEMU_SOURCE_MODELS_DIR;
+}
+
+}  // namespace dxlemu::app

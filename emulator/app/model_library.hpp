@@ -1,0 +1,45 @@
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/model_spec.hpp"
+
+namespace dxlemu::app {
+
+/// Every model the emulator can instantiate: the shipped models (models/catalog.json) and the
+/// model files of any directories given with --models, which may add models or replace a shipped
+/// one of the same name. Loading is all or nothing: a bad file throws model::ModelError naming it.
+class ModelLibrary {
+ public:
+  /// Loads the shipped catalog in `shipped_dir`, then every *.json file of each `extra_dirs`
+  /// directory (catalog.json excepted). Throws model::ModelError for a bad file or directory, and
+  /// for two models that claim the same model number.
+  static ModelLibrary load(const std::filesystem::path& shipped_dir,
+                           const std::vector<std::filesystem::path>& extra_dirs);
+
+  /// The model named `name` ("xm430-w350"), or nullptr.
+  std::shared_ptr<const model::ModelSpec> find(const std::string& name) const;
+  /// The model whose Model Number is `number`, or nullptr.
+  std::shared_ptr<const model::ModelSpec> find(std::uint16_t number) const;
+  /// All models, by name.
+  const std::map<std::string, std::shared_ptr<const model::ModelSpec>>& models() const {
+    return models_;
+  }
+
+ private:
+  void add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin);
+
+  std::map<std::string, std::shared_ptr<const model::ModelSpec>> models_;
+  std::map<std::string, std::string> origins_;
+};
+
+/// The directory of the shipped models: $DXLEMU_MODELS_DIR when set, else the source tree's
+/// models/ this binary was built from.
+std::filesystem::path shipped_models_dir();
+
+}  // namespace dxlemu::app

@@ -1,0 +1,202 @@
+// The model files in models/ load, agree with the catalog, and match the ROBOTIS reference pages
+// row by row (address, size, access, area, initial value, printed range) whenever
+// ../shared/reference is present.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "model/control_table.hpp"
+#include "model/model_loader.hpp"
+#include "reference_page.hpp"
+
+using namespace dxlemu;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kModels(DXLEMU_MODELS_DIR);
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The catalog's entries, by value: a range-for over a member of a temporary would dangle.
+nlohmann::json catalog_entries() {
+  return nlohmann::json::parse(slurp(kModels / "catalog.json")).at("models");
+}
+
+std::vector<std::shared_ptr<const model::ModelSpec>> shipped_models() {
+  std::vector<std::shared_ptr<const model::ModelSpec>> out;
+  const nlohmann::json entries = catalog_entries();
+  for (const auto& entry : entries) {
+    const fs::path file = kModels / entry["file"].get<std::string>();
+    out.push_back(
+        std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
+  }
+  return out;
+}
+
+// Item notes of a model file by key. A model may differ from the printed table only where the
+// item's note says why, starting with the field ("range: ...", "initial: ...", "access: ...").
+std::map<std::string, std::string> item_notes(const std::string& name) {
+  const nlohmann::json file = nlohmann::json::parse(slurp(kModels / (name + ".json")));
+  std::map<std::string, std::string> notes;
+  for (const auto& item : file.at("items")) {
+    if (item.contains("note")) {
+      notes[item.at("key").get<std::string>()] = item.at("note").get<std::string>();
+    }
+  }
+  return notes;
+}
+
+bool documented(const std::map<std::string, std::string>& notes, const std::string& key,
+                const std::string& field) {
+  const auto it = notes.find(key);
+  return it != notes.end() && it->second.find(field + ":") != std::string::npos;
+}
+
+// "Indirect Address 12" -> "Indirect Address": the series a page may elide with "…".
+std::string series_of(const std::string& name) {
+  const auto space = name.find_last_of(' ');
+  if (space == std::string::npos ||
+      name.find_first_not_of("0123456789", space + 1) != std::string::npos) {
+    return name;
+  }
+  return name.substr(0, space);
+}
+
+std::int64_t read_back(model::ControlTable& table, const model::ItemSpec& item) {
+  std::vector<std::uint8_t> bytes;
+  REQUIRE(table.bus_read(item.address, item.size, bytes).ok());
+  std::uint64_t raw = 0;
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    raw |= std::uint64_t{bytes[i]} << (8 * i);
+  }
+  if (item.is_signed && (raw >> (8 * item.size - 1)) != 0) {
+    return static_cast<std::int64_t>(raw) - (std::int64_t{1} << (8 * item.size));
+  }
+  return static_cast<std::int64_t>(raw);
+}
+
+}  // namespace
+
+TEST_CASE("The catalog lists all 32 shipped models and every one loads", "[model][shipped]") {
+  std::set<std::string> listed;
+  const nlohmann::json entries = catalog_entries();
+  for (const auto& entry : entries) {
+    listed.insert(entry["file"].get<std::string>());
+  }
+  std::set<std::string> present;
+  for (const auto& f : fs::directory_iterator(kModels)) {
+    if (f.path().extension() == ".json" && f.path().filename() != "catalog.json") {
+      present.insert(f.path().filename().string());
+    }
+  }
+  CHECK(listed == present);
+  CHECK(listed.size() == 32);
+  const auto models = shipped_models();
+  std::set<std::uint16_t> numbers;
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    const auto& entry = entries[i];
+    INFO(models[i]->name);
+    CHECK(entry["name"] == models[i]->name);
+    CHECK(entry["file"] == models[i]->name + ".json");
+    CHECK(entry["model_number"] == models[i]->model_number);
+    CHECK(numbers.insert(models[i]->model_number).second);
+  }
+}
+
+TEST_CASE("Every shipped model matches its reference page row by row", "[model][shipped]") {
+  const auto reference = test::reference_dir();
+  if (!reference) {
+    WARN("../shared/reference not found: the models are not cross-checked");
+    return;
+  }
+  for (const auto& spec : shipped_models()) {
+    const auto page =
+        test::parse_reference_page(*reference / "control-tables" / (spec->name + ".md"));
+    INFO(spec->name);
+    REQUIRE(!page.rows.empty());
+    const auto notes = item_notes(spec->name);
+    std::set<std::uint16_t> matched;
+    std::set<std::string> printed_series;
+    for (const auto& row : page.rows) {
+      INFO(row.name << " at " << row.address);
+      printed_series.insert(series_of(row.name));
+      const model::ItemSpec* item = nullptr;
+      for (const auto& i : spec->items) {
+        if (i.address == row.address) {
+          item = &i;
+        }
+      }
+      REQUIRE(item != nullptr);
+      matched.insert(item->address);
+      CHECK(item->name == row.name);
+      CHECK(item->size == row.size);
+      if (!documented(notes, item->key, "access")) {
+        CHECK((item->access == model::Access::ReadOnly ? "R" : "RW") == row.access);
+      }
+      if (!row.area.empty()) {
+        CHECK((item->area == model::Area::Eeprom ? "EEPROM" : "RAM") == row.area);
+      }
+      const auto initial = test::reference_number(row.initial);
+      if (initial && !documented(notes, item->key, "initial")) {
+        CHECK(item->initial == *initial);
+      }
+      const auto tilde = row.range.find('~');
+      if (tilde != std::string::npos && row.range.find('~', tilde + 1) == std::string::npos &&
+          !documented(notes, item->key, "range")) {
+        const auto lo = test::reference_number(row.range.substr(0, tilde));
+        const auto hi = test::reference_number(row.range.substr(tilde + 1));
+        if (lo && hi) {
+          CHECK(item->min == *lo);
+          CHECK(item->max == *hi);
+        }
+      }
+    }
+    // Items the page does not print must belong to a series the page elides ("…").
+    for (const auto& item : spec->items) {
+      if (matched.count(item.address) == 0) {
+        INFO(item.key << " at " << item.address << " is not on the page");
+        CHECK(page.has_elided_rows);
+        CHECK(printed_series.count(series_of(item.name)) == 1);
+      }
+    }
+  }
+}
+
+TEST_CASE("Every shipped model's initial values read back through the bus as the page prints them",
+          "[model][shipped]") {
+  const auto reference = test::reference_dir();
+  for (const auto& spec : shipped_models()) {
+    INFO(spec->name);
+    model::ControlTable table(spec);
+    for (const auto& item : spec->items) {
+      INFO(item.key);
+      CHECK(read_back(table, item) == item.initial);
+    }
+    if (!reference) {
+      continue;
+    }
+    for (const auto& row :
+         test::parse_reference_page(*reference / "control-tables" / (spec->name + ".md")).rows) {
+      if (const auto initial = test::reference_number(row.initial)) {
+        const model::ItemSpec* item = nullptr;
+        for (const auto& i : spec->items) {
+          item = i.address == row.address ? &i : item;
+        }
+        REQUIRE(item != nullptr);
+        INFO(row.name);
+        CHECK(read_back(table, *item) == *initial);
+      }
+    }
+  }
+}
