@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "model/family_rules.hpp"
+
 namespace dxlemu::model {
 namespace {
 
@@ -35,6 +37,7 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
     }
   }
   load_initial(true);
+  install_family_rules(*this);
 }
 
 void ControlTable::load_initial(bool eeprom) {

@@ -30,7 +30,8 @@ class ControlTable {
   /// Says whether EEPROM items are locked now; replaces the family's rule (2XL430: both axes).
   using EepromLock = std::function<bool()>;
 
-  /// A table for `spec` with every item at its initial value.
+  /// A table for `spec` with every item at its initial value and its family's rules installed
+  /// (family_rules.hpp).
   explicit ControlTable(std::shared_ptr<const ModelSpec> spec);
 
   /// The model this table belongs to.

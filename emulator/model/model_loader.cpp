@@ -1,7 +1,7 @@
 #include "model/model_loader.hpp"
 
 #include <algorithm>
-#include <initializer_list>
+#include <array>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -11,6 +11,36 @@ namespace dxlemu::model {
 namespace {
 
 using nlohmann::json;
+
+constexpr std::array<std::string_view, 19> kModelFields = {"$schema",
+                                                           "name",
+                                                           "title",
+                                                           "model_number",
+                                                           "firmware_version",
+                                                           "family",
+                                                           "protocols",
+                                                           "default_id",
+                                                           "baud_rates",
+                                                           "default_baud_index",
+                                                           "return_delay_unit_us",
+                                                           "timing",
+                                                           "motion",
+                                                           "indirect",
+                                                           "axes",
+                                                           "shared_items",
+                                                           "source",
+                                                           "notes",
+                                                           "items"};
+constexpr std::array<std::string_view, 16> kItemFields = {
+    "key",    "name", "address", "size",   "access",    "area",      "initial", "initial_from",
+    "signed", "min",  "max",     "values", "limit_min", "limit_max", "unit",    "note"};
+constexpr std::array<std::string_view, 2> kBaudFields = {"index", "bps"};
+constexpr std::array<std::string_view, 5> kTimingFields = {"ping_us", "read_us", "write_us",
+                                                           "write_per_byte_us", "boot_ms"};
+constexpr std::array<std::string_view, 5> kMotionFields = {"degrees_per_pulse", "velocity_unit_rpm",
+                                                           "current_unit_ma", "no_load_speed_rpm",
+                                                           "stall_torque_nm"};
+constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 
 // Walks a JSON document with the pointer of the current value at hand, so that every refusal
 // names exactly where the problem is.
@@ -39,13 +69,13 @@ class Node {
     return Node(value_.at(index), pointer_ + "/" + std::to_string(index), origin_);
   }
 
-  void expect_object(std::initializer_list<const char*> allowed) const {
+  void expect_object(std::span<const std::string_view> allowed) const {
     if (!value_.is_object()) {
       fail("must be an object");
     }
     for (auto it = value_.begin(); it != value_.end(); ++it) {
       const std::string& key = it.key();
-      const auto known = [&key](const char* a) { return key == a; };
+      const auto known = [&key](std::string_view a) { return key == a; };
       if (std::find_if(allowed.begin(), allowed.end(), known) == allowed.end()) {
         Node(it.value(), pointer_ + "/" + escape(key), origin_).fail("unknown field");
       }
@@ -143,8 +173,7 @@ struct PendingItem {
 };
 
 PendingItem read_item(const Node& n) {
-  n.expect_object({"key", "name", "address", "size", "access", "area", "initial", "initial_from",
-                   "signed", "min", "max", "values", "limit_min", "limit_max", "unit", "note"});
+  n.expect_object(kItemFields);
   PendingItem p;
   p.pointer = n.pointer();
   ItemSpec& s = p.spec;
@@ -326,10 +355,7 @@ void check_indirect(const Node& n, const ModelSpec& spec) {
 
 ModelSpec model_from_json(const json& document, const std::string& origin) {
   const Node root(document, "", origin);
-  root.expect_object({"$schema", "name", "title", "model_number", "firmware_version", "family",
-                      "protocols", "default_id", "baud_rates", "default_baud_index",
-                      "return_delay_unit_us", "timing", "motion", "indirect", "axes",
-                      "shared_items", "source", "notes", "items"});
+  root.expect_object(kModelFields);
   ModelSpec spec;
   spec.name = root.at("name").string();
   spec.title = root.at("title").string();
@@ -359,7 +385,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   const Node bauds = root.at("baud_rates");
   for (std::size_t i = 0, n = bauds.array_size(); i < n; ++i) {
     const Node b = bauds.at(i);
-    b.expect_object({"index", "bps"});
+    b.expect_object(kBaudFields);
     const BaudRate rate{b.at("index").integer(0, kU32),
                         static_cast<std::uint32_t>(b.at("bps").integer(1, kU32))};
     if (spec.bps_for_index(rate.index)) {
@@ -375,7 +401,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
       static_cast<std::uint32_t>(root.at("return_delay_unit_us").integer(1, kU16));
 
   const Node timing = root.at("timing");
-  timing.expect_object({"ping_us", "read_us", "write_us", "write_per_byte_us", "boot_ms"});
+  timing.expect_object(kTimingFields);
   auto micros = [&](const char* key) {
     return static_cast<std::uint32_t>(timing.at(key).integer(0, kU32));
   };
@@ -383,8 +409,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
                  micros("write_per_byte_us"), micros("boot_ms")};
 
   const Node motion = root.at("motion");
-  motion.expect_object({"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma",
-                        "no_load_speed_rpm", "stall_torque_nm"});
+  motion.expect_object(kMotionFields);
   spec.motion.degrees_per_pulse = motion.at("degrees_per_pulse").positive_number();
   spec.motion.velocity_unit_rpm = motion.at("velocity_unit_rpm").positive_number();
   auto optional_number = [&](const char* key) -> std::optional<double> {
@@ -404,7 +429,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     const Node blocks = root.child("indirect");
     for (std::size_t i = 0, n = blocks.array_size(); i < n; ++i) {
       const Node b = blocks.at(i);
-      b.expect_object({"address", "data", "count"});
+      b.expect_object(kIndirectFields);
       spec.indirect.push_back({static_cast<std::uint16_t>(b.at("address").integer(0, kU16)),
                                static_cast<std::uint16_t>(b.at("data").integer(0, kU16)),
                                static_cast<std::uint16_t>(b.at("count").integer(1, kU16))});
@@ -424,6 +449,14 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     }
   }
   return spec;
+}
+
+std::span<const std::string_view> model_fields() {
+  return kModelFields;
+}
+
+std::span<const std::string_view> item_fields() {
+  return kItemFields;
 }
 
 ModelSpec parse_model(std::string_view json_text, const std::string& origin) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -17,6 +18,13 @@ namespace dxlemu::model {
 /// range, a bound naming an unknown item, a default baud index not in the table, an indirect
 /// block that does not match its items.
 ModelSpec parse_model(std::string_view json_text, const std::string& origin);
+
+/// The top-level fields a model file may have (docs/model-format.md). The JSON Schema in
+/// models/schema/ declares the same; a test keeps the two in step.
+std::span<const std::string_view> model_fields();
+
+/// The fields an item may have.
+std::span<const std::string_view> item_fields();
 
 /// As parse_model, from an already parsed document.
 ModelSpec model_from_json(const nlohmann::json& document, const std::string& origin);

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
+
+#include "wire/status_error.hpp"
 
 namespace dxlemu::model {
 
@@ -12,7 +15,17 @@ enum class TableError {
   DataLength,  ///< 2.0 write covering only part of a multi-byte item
   DataRange,   ///< value outside the item's range or allowed values
   DataLimit,   ///< value beyond the item that limits it (e.g. Max Position Limit)
+  AngleLimit,  ///< Goal Position outside CW/CCW Angle Limit in joint mode (AX, RX, EX, MX 1.0,
+               ///< XL-320)
 };
+
+/// The Protocol 2.0 error number for a refusal (protocol2.md "Error"); an Angle Limit refusal is
+/// a Data Limit Error there.
+wire::StatusError v2_status_error(TableError error);
+
+/// The Protocol 1.0 error bits for a refusal (protocol1.md "Error"). 1.0 has no access, length or
+/// limit errors: they are all the Range Error bit, except Angle Limit, which has its own bit.
+std::uint8_t v1_error_bits(TableError error);
 
 /// The outcome of a bus access: None, or an error and a sentence saying which rule refused it
 /// (for traces and the control API).

@@ -8,7 +8,7 @@
 namespace dxlemu::test {
 namespace {
 
-std::string trim(std::string s) {
+std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r");
   if (first == std::string::npos) {
     return "";

@@ -139,3 +139,45 @@ TEST_CASE("2XL430-W250: EEPROM needs both axes off, Baud Rate and Protocol Type 
   CHECK(write(second, 13, {1}, v2) == TableError::None);
   CHECK(first.get("protocol_type") == 1);
 }
+
+TEST_CASE("AX-12A in joint mode refuses a Goal Position outside CW/CCW Angle Limit",
+          "[model][matrix]") {
+  ControlTable t(shipped("ax-12a"));
+  const auto v1 = Protocol::V1;
+  REQUIRE(write(t, 6, le(200, 2), v1) == TableError::None);  // CW Angle Limit
+  REQUIRE(write(t, 8, le(800, 2), v1) == TableError::None);  // CCW Angle Limit
+  const auto refused = t.bus_write(30, le(801, 2), v1);
+  CHECK(refused.error == TableError::AngleLimit);
+  CHECK(model::v1_error_bits(refused.error) == wire::v1_error::kAngleLimit);
+  CHECK(write(t, 30, le(199, 2), v1) == TableError::AngleLimit);
+  CHECK(write(t, 30, le(800, 2), v1) == TableError::None);
+  // Wheel mode (both limits 0): Goal Position is not bounded by the limits.
+  REQUIRE(write(t, 6, le(0, 2), v1) == TableError::None);
+  REQUIRE(write(t, 8, le(0, 2), v1) == TableError::None);
+  CHECK(write(t, 30, le(900, 2), v1) == TableError::None);
+}
+
+TEST_CASE("MX-28 multi-turn mode (both limits 4095) takes any Goal Position in range",
+          "[model][matrix]") {
+  ControlTable t(shipped("mx-28"));
+  const auto v1 = Protocol::V1;
+  CHECK(write(t, 30, le(-1, 2), v1) == TableError::AngleLimit);  // joint mode: 0 ~ 4095
+  REQUIRE(write(t, 6, le(4095, 2), v1) == TableError::None);
+  REQUIRE(write(t, 8, le(4095, 2), v1) == TableError::None);
+  CHECK(write(t, 30, le(-20000, 2), v1) == TableError::None);
+  CHECK(t.get("goal_position") == -20000);
+}
+
+TEST_CASE("XL-320 answers a Goal Position outside its angle limits with Data Limit Error",
+          "[model][matrix]") {
+  ControlTable t(shipped("xl-320"));
+  REQUIRE(write(t, 8, le(600, 2), Protocol::V2) == TableError::None);  // CCW Angle Limit
+  const auto refused = t.bus_write(30, le(601, 2), Protocol::V2);
+  CHECK(refused.error == TableError::AngleLimit);
+  CHECK(model::v2_status_error(refused.error) == wire::StatusError::DataLimit);
+}
+
+TEST_CASE("X models have no angle-limit rule on Goal Position", "[model][matrix]") {
+  ControlTable t(shipped("xm430-w350"));
+  CHECK(write(t, 116, le(4095, 4), Protocol::V2) == TableError::None);
+}

@@ -41,7 +41,7 @@ TEST_CASE("A new table holds every initial value, little-endian, signed where de
   CHECK(t.get("goal_pwm") == 885);  // copied from PWM Limit at power-on
 }
 
-TEST_CASE("Reads span items and reserved bytes; a read past the end is an Access error",
+TEST_CASE("Reads span items and reserved bytes, and a read past the end is an Access error",
           "[model][table]") {
   ControlTable t(test::test_model());
   // 2..6 are reserved: they read as 0; the read may end inside ID's neighbour items.
@@ -64,7 +64,7 @@ TEST_CASE("Writes to read-only items or reserved addresses are Access errors", "
   CHECK(t.get("id") == 1);
 }
 
-TEST_CASE("A 2.0 write covering part of a multi-byte item is a Data Length error; 1.0 allows it",
+TEST_CASE("A 2.0 write covering part of a multi-byte item is a Data Length error, 1.0 allows it",
           "[model][table]") {
   ControlTable t(test::test_model());
   CHECK(write(t, 28, {0x00, 0x01}) == TableError::DataLength);
@@ -199,7 +199,7 @@ TEST_CASE("Device-side set bypasses access rules but not the item's width", "[mo
   CHECK_THROWS_AS(t.get("no_such_item"), std::out_of_range);
 }
 
-TEST_CASE("Power-on restores RAM; a factory reset restores EEPROM too", "[model][table]") {
+TEST_CASE("Power-on restores RAM and a factory reset restores EEPROM too", "[model][table]") {
   ControlTable t(test::test_model());
   REQUIRE(write(t, 7, {9}) == TableError::None);
   REQUIRE(write(t, 28, le32(77)) == TableError::None);
@@ -241,4 +241,21 @@ TEST_CASE("Protocol 1.0 families lock EEPROM with Lock, which stays set until po
   CHECK(write(t, 25, {0}, Protocol::V1) == TableError::Access);
   t.load_initial(false);
   CHECK(write(t, 7, {6}, Protocol::V1) == TableError::None);
+}
+
+TEST_CASE("Refusals map to 2.0 error numbers and 1.0 error bits", "[model][table]") {
+  using wire::StatusError;
+  namespace v1 = wire::v1_error;
+  const std::vector<std::tuple<TableError, StatusError, std::uint8_t>> expected = {
+      {TableError::None, StatusError::None, 0},
+      {TableError::Access, StatusError::Access, v1::kRange},
+      {TableError::DataLength, StatusError::DataLength, v1::kRange},
+      {TableError::DataRange, StatusError::DataRange, v1::kRange},
+      {TableError::DataLimit, StatusError::DataLimit, v1::kRange},
+      {TableError::AngleLimit, StatusError::DataLimit, v1::kAngleLimit},
+  };
+  for (const auto& [error, v2, bits] : expected) {
+    CHECK(model::v2_status_error(error) == v2);
+    CHECK(model::v1_error_bits(error) == bits);
+  }
 }

@@ -200,3 +200,19 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
     }
   }
 }
+
+TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[model][shipped]") {
+  const auto schema = nlohmann::json::parse(slurp(kModels / "schema" / "model.schema.json"));
+  auto keys_of = [](const nlohmann::json& properties) {
+    std::set<std::string> keys;
+    for (auto it = properties.begin(); it != properties.end(); ++it) {
+      keys.insert(it.key());
+    }
+    return keys;
+  };
+  auto as_set = [](std::span<const std::string_view> fields) {
+    return std::set<std::string>(fields.begin(), fields.end());
+  };
+  CHECK(keys_of(schema.at("properties")) == as_set(model::model_fields()));
+  CHECK(keys_of(schema.at("$defs").at("item").at("properties")) == as_set(model::item_fields()));
+}
