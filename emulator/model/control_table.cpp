@@ -309,6 +309,12 @@ void ControlTable::set(std::string_view key, std::int64_t value) {
   set(index(key), value);
 }
 
+void ControlTable::copy_from(std::size_t item, std::span<const std::uint8_t> image) {
+  const ItemSpec& spec = spec_->items.at(item);
+  const auto from = image.subspan(spec.address, spec.size);
+  std::copy(from.begin(), from.end(), image_.begin() + spec.address);
+}
+
 std::size_t ControlTable::index(std::string_view key) const {
   const auto i = spec_->index_of(key);
   if (!i) {

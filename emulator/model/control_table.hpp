@@ -67,6 +67,10 @@ class ControlTable {
   /// As set(item, value), by key. Throws std::out_of_range for an unknown key.
   void set(std::string_view key, std::int64_t value);
 
+  /// Device side: copies the item's bytes from `image`, another byte image of this model (a
+  /// Control Table Backup). Bypasses access rules and hooks.
+  void copy_from(std::size_t item, std::span<const std::uint8_t> image);
+
   /// Index of the item with `key`. Throws std::out_of_range for an unknown key.
   std::size_t index(std::string_view key) const;
 

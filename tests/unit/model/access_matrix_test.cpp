@@ -2,12 +2,9 @@
 // AX-12A and the dual-axis 2XL430 (docs/control-table.md).
 #include <catch2/catch.hpp>
 
-#include <fstream>
-#include <sstream>
-
 #include "model/control_table.hpp"
 #include "model/dual_axis.hpp"
-#include "model/model_loader.hpp"
+#include "shipped_model.hpp"
 
 using namespace dxlemu;
 using model::ControlTable;
@@ -18,11 +15,7 @@ using Bytes = std::vector<std::uint8_t>;
 namespace {
 
 std::shared_ptr<const model::ModelSpec> shipped(const std::string& name) {
-  const std::string path = std::string(DXLEMU_MODELS_DIR) + "/" + name + ".json";
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return std::make_shared<const model::ModelSpec>(model::parse_model(s.str(), path));
+  return test::shipped_model(name);
 }
 
 TableError write(ControlTable& t, std::uint16_t address, Bytes data, Protocol p) {

@@ -1,0 +1,413 @@
+#include "bus/bus.hpp"
+
+#include <algorithm>
+#include <type_traits>
+
+#include "bus/line_timing.hpp"
+#include "wire/instruction_decoder.hpp"
+#include "wire/packet_encoder.hpp"
+
+namespace dxlemu::bus {
+
+using sim::SimDuration;
+using sim::SimTime;
+
+struct Bus::Station {
+  model::Servo* servo = nullptr;
+  SimTime booting_until{};  // silent before this (Reboot, Factory Reset, Backup restore)
+};
+
+// A reply scheduled for delivery. A collision marks it cancelled: the event still runs (the servo
+// still applies deferred effects), but the bytes are not delivered.
+struct Bus::Outgoing {
+  bool cancelled = false;
+};
+
+namespace {
+
+// "For an instruction whose bytes arrived at t: line_end = t + wire(instruction)" (DESIGN.md).
+// A packet written in pieces cannot end before its last piece arrived plus one byte time.
+SimTime line_end(const wire::Frame& frame, std::uint32_t bps) {
+  return std::max(frame.first_byte_at + wire_time(frame.raw.size(), bps),
+                  frame.last_byte_at + wire_time(1, bps));
+}
+
+// One device's part of a Sync/Bulk Read, in request order.
+struct ReadSlot {
+  std::uint8_t id;
+  std::uint16_t address;
+  std::uint16_t length;
+};
+
+template <class T>
+constexpr bool kIsGroupRead =
+    std::is_same_v<T, wire::SyncRead> || std::is_same_v<T, wire::FastSyncRead> ||
+    std::is_same_v<T, wire::BulkRead> || std::is_same_v<T, wire::FastBulkRead>;
+
+template <class T>
+constexpr bool kIsGroupWrite =
+    std::is_same_v<T, wire::SyncWrite> || std::is_same_v<T, wire::BulkWrite>;
+
+}  // namespace
+
+Bus::Bus(sim::Scheduler& scheduler, ByteLink& link) : scheduler_(scheduler), link_(link) {}
+
+Bus::~Bus() = default;
+
+model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
+  servos_.push_back(std::move(servo));
+  stations_.push_back(std::make_unique<Station>(Station{servos_.back().get(), {}}));
+  return *servos_.back();
+}
+
+bool Bus::booting(const model::Servo& servo) const {
+  for (const auto& s : stations_) {
+    if (s->servo == &servo) {
+      return scheduler_.now() < s->booting_until;
+    }
+  }
+  return false;
+}
+
+void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t client_bps) {
+  stats_.bytes_in += bytes.size();
+  // Collision policy (docs/bus.md): bytes from the client while replies are still due would
+  // garble them on a real half-duplex line. The pending replies are dropped; their servos still
+  // apply what the instruction changed. The new bytes are heard normally.
+  if (!outgoing_.empty()) {
+    ++stats_.collisions;
+    for (const auto& o : outgoing_) {
+      o->cancelled = true;
+    }
+    outgoing_.clear();
+  }
+  // Each protocol's framer hears the line when a servo speaks that protocol (mixed buses).
+  std::vector<wire::FramerEvent> events;
+  for (const auto protocol : {wire::Protocol::V1, wire::Protocol::V2}) {
+    const bool heard = std::any_of(stations_.begin(), stations_.end(),
+                                   [&](const auto& s) { return s->servo->protocol() == protocol; });
+    if (heard) {
+      (protocol == wire::Protocol::V1 ? v1_framer_ : v2_framer_).feed(bytes, at, events);
+    }
+  }
+  for (const wire::FramerEvent& event : events) {
+    if (const auto* frame = std::get_if<wire::Frame>(&event)) {
+      ++stats_.frames;
+      on_frame(*frame, client_bps);
+      continue;
+    }
+    const auto& error = std::get<wire::FramingError>(event);
+    switch (error.kind) {
+      case wire::FramingErrorKind::Garbage:
+        stats_.garbage_bytes += error.bytes;
+        break;
+      case wire::FramingErrorKind::BadCheck:
+        ++stats_.bad_checks;
+        on_bad_check(error, error.at + wire_time(error.bytes, client_bps), client_bps);
+        break;
+      case wire::FramingErrorKind::ImpossibleLength:
+        ++stats_.impossible_lengths;
+        break;
+      case wire::FramingErrorKind::Truncated:
+        ++stats_.truncated;
+        break;
+    }
+  }
+}
+
+std::vector<Bus::Station*> Bus::listeners(wire::Protocol protocol, std::uint32_t client_bps,
+                                          SimTime now) {
+  std::vector<Station*> out;
+  for (const auto& s : stations_) {
+    if (s->servo->protocol() == protocol && baud_matches(client_bps, s->servo->baud_bps()) &&
+        now >= s->booting_until) {
+      out.push_back(s.get());
+    }
+  }
+  return out;
+}
+
+std::vector<Bus::Station*> Bus::addressed(const std::vector<Station*>& listening,
+                                          std::uint8_t id) const {
+  std::vector<Station*> out;
+  for (Station* s : listening) {
+    if (s->servo->id() == id) {
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
+void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
+  const SimTime end = line_end(frame, client_bps);
+  auto decoded = wire::decode_instruction(frame);
+  if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
+    ++stats_.decode_errors;
+    if (frame.id == wire::kBroadcastId) {
+      return;
+    }
+    std::vector<Reply> replies;
+    for (Station* s : addressed(listeners(frame.protocol, client_bps, end), frame.id)) {
+      model::ServoResponse r = s->servo->refuse(*error, false);
+      if (r.reply) {
+        replies.push_back({s, r, status_bytes(*s, r)});
+      }
+    }
+    answer(replies, end, false);
+    return;
+  }
+  const auto& packet = std::get<wire::InstructionPacket>(decoded);
+  std::visit(
+      [&](const auto& instruction) {
+        using T = std::decay_t<decltype(instruction)>;
+        if constexpr (kIsGroupRead<T>) {
+          group_read(packet, end, client_bps);
+        } else if constexpr (kIsGroupWrite<T>) {
+          group_write(packet, end, client_bps);
+        } else {
+          single(packet, end, client_bps);
+        }
+      },
+      packet.instruction);
+}
+
+void Bus::on_bad_check(const wire::FramingError& error, SimTime end, std::uint32_t client_bps) {
+  // A servo answers a damaged packet sent to its ID with CRC Error (2.0) or the Checksum Error
+  // bit (1.0); the ID is unverified, so whoever has that ID answers. Broadcast: silence.
+  if (!error.id || *error.id == wire::kBroadcastId) {
+    return;
+  }
+  std::vector<Reply> replies;
+  for (Station* s : addressed(listeners(error.protocol, client_bps, end), *error.id)) {
+    model::ServoResponse r = s->servo->bad_check(error.instruction);
+    if (r.reply) {
+      replies.push_back({s, r, status_bytes(*s, r)});
+    }
+  }
+  answer(replies, end, false);
+}
+
+void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {
+  const bool broadcast = packet.id == wire::kBroadcastId;
+  std::vector<Station*> targets = listeners(packet.protocol, client_bps, end);
+  if (!broadcast) {
+    targets = addressed(targets, packet.id);
+  }
+  // Broadcast Ping: every servo answers, in ascending ID order (protocol2.md "Ping" Example 2).
+  std::stable_sort(targets.begin(), targets.end(), [](const Station* a, const Station* b) {
+    return a->servo->id() < b->servo->id();
+  });
+  std::vector<Reply> replies;
+  for (Station* s : targets) {
+    model::ServoResponse r = s->servo->execute(packet, broadcast);
+    if (r.reply) {
+      replies.push_back({s, r, status_bytes(*s, r)});
+    } else {
+      settle(*s, r, end);
+    }
+  }
+  answer(replies, end, broadcast);
+}
+
+void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {
+  if (packet.id != wire::kBroadcastId) {
+    return;  // "The Packet ID must be 0xFE": a servo ignores a Sync/Bulk Read sent to its own ID
+  }
+  bool fast = false;
+  bool v1_bulk = false;
+  std::vector<ReadSlot> slots;
+  std::visit(
+      [&](const auto& ins) {
+        using T = std::decay_t<decltype(ins)>;
+        if constexpr (std::is_base_of_v<wire::SyncRead, T>) {
+          fast = std::is_same_v<T, wire::FastSyncRead>;
+          for (const std::uint8_t id : ins.ids) {
+            slots.push_back({id, ins.address, ins.length});
+          }
+        } else if constexpr (std::is_base_of_v<wire::BulkRead, T>) {
+          fast = std::is_same_v<T, wire::FastBulkRead>;
+          v1_bulk = packet.protocol == wire::Protocol::V1;
+          for (const wire::BulkReadTarget& t : ins.targets) {
+            // protocol1.md: "If an identical ID is designated multiple times, only the first
+            // designated parameter will be processed."
+            const bool seen = std::any_of(slots.begin(), slots.end(),
+                                          [&](const ReadSlot& s) { return s.id == t.id; });
+            if (!seen) {
+              slots.push_back({t.id, t.address, t.length});
+            }
+          }
+        }
+      },
+      packet.instruction);
+
+  const std::vector<Station*> listening = listeners(packet.protocol, client_bps, end);
+  std::vector<Reply> replies;
+  for (const ReadSlot& slot : slots) {
+    std::vector<Station*> matches = addressed(listening, slot.id);
+    std::erase_if(matches, [&](const Station* s) {
+      return !s->servo->replies_to(true) || (fast && !s->servo->supports_fast_read()) ||
+             (v1_bulk && !s->servo->supports_v1_bulk_read());
+    });
+    // Each device waits for the status of the one before it (protocol1.md "Bulk Read"): when a
+    // listed device does not answer, the ones after it wait in vain and stay silent.
+    if (matches.empty()) {
+      break;
+    }
+    if (matches.size() > 1) {
+      ++stats_.id_conflicts;  // two devices claim the slot; the first one added answers
+    }
+    Station* s = matches.front();
+    model::ServoResponse r = s->servo->read_part(slot.address, slot.length);
+    if (fast) {
+      r.params.resize(slot.length, 0);  // a failed read still fills its block (docs/bus.md)
+    }
+    replies.push_back({s, std::move(r), {}});
+  }
+  if (replies.empty()) {
+    return;
+  }
+  if (!fast) {
+    for (Reply& r : replies) {
+      r.bytes = status_bytes(*r.station, r.response);
+    }
+    answer(replies, end, true);
+    return;
+  }
+  // Fast Sync/Bulk Read: one packet from ID 0xFE, charged one processing time and one Return
+  // Delay Time (the first device's). If the chain broke, LENGTH still announces every listed
+  // device and the packet stops after the last block sent: the client sees it cut short.
+  wire::FastReply reply;
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    const bool present = i < replies.size();
+    reply.blocks.push_back(
+        {present ? replies[i].response.error : std::uint8_t{0}, slots[i].id,
+         present ? replies[i].response.params : std::vector<std::uint8_t>(slots[i].length, 0)});
+  }
+  std::vector<std::uint8_t> bytes = wire::encode_fast_reply(reply);
+  if (replies.size() < slots.size()) {
+    std::size_t sent = 8;  // header, ID, LENGTH, 0x55
+    for (std::size_t i = 0; i < replies.size(); ++i) {
+      sent += 4 + slots[i].length;
+    }
+    bytes.resize(sent);
+  }
+  const Station& first = *replies.front().station;
+  const SimTime start = end + replies.front().response.processing + first.servo->return_delay();
+  std::vector<Station*> stations;
+  std::vector<bool> reboots;
+  for (const Reply& r : replies) {
+    stations.push_back(r.station);
+    reboots.push_back(false);
+  }
+  const SimTime delivered = start + wire_time(bytes.size(), first.servo->baud_bps());
+  send_at(std::move(bytes), delivered, stations, reboots);
+}
+
+void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
+                      std::uint32_t client_bps) {
+  if (packet.id != wire::kBroadcastId) {
+    return;  // "The Packet ID must be 0xFE"
+  }
+  const std::vector<Station*> listening = listeners(packet.protocol, client_bps, end);
+  auto write_to = [&](std::uint8_t id, std::uint16_t address,
+                      const std::vector<std::uint8_t>& data) {
+    for (Station* s : addressed(listening, id)) {
+      s->servo->write_part(address, data);
+      settle(*s, {}, end);
+    }
+  };
+  std::vector<std::uint8_t> done;  // Bulk Write: one write per ID, the first listed
+  std::visit(
+      [&](const auto& ins) {
+        using T = std::decay_t<decltype(ins)>;
+        if constexpr (std::is_same_v<T, wire::SyncWrite>) {
+          for (const wire::SyncWriteTarget& t : ins.targets) {
+            write_to(t.id, ins.address, t.data);
+          }
+        } else if constexpr (std::is_same_v<T, wire::BulkWrite>) {
+          for (const wire::BulkWriteTarget& t : ins.targets) {
+            if (std::find(done.begin(), done.end(), t.id) == done.end()) {
+              done.push_back(t.id);
+              write_to(t.id, t.address, t.data);
+            }
+          }
+        }
+      },
+      packet.instruction);
+}
+
+std::vector<std::uint8_t> Bus::status_bytes(const Station& station,
+                                            const model::ServoResponse& response) const {
+  const auto protocol = station.servo->protocol().value_or(wire::Protocol::V2);
+  return wire::encode_status({protocol, station.servo->id(), response.error, response.params});
+}
+
+void Bus::answer(const std::vector<Reply>& replies, SimTime start_after, bool chained) {
+  if (replies.empty()) {
+    return;
+  }
+  if (!chained && replies.size() > 1) {
+    // Two servos with one ID answer at once and their bytes collide. The line idles high and a
+    // 0 bit wins, so the client receives the bitwise AND of both packets (docs/bus.md).
+    ++stats_.id_conflicts;
+    std::vector<std::uint8_t> merged;
+    SimTime last{};
+    std::vector<Station*> stations;
+    std::vector<bool> reboots;
+    for (const Reply& r : replies) {
+      if (merged.size() < r.bytes.size()) {
+        merged.resize(r.bytes.size(), 0xFF);
+      }
+      for (std::size_t i = 0; i < r.bytes.size(); ++i) {
+        merged[i] &= r.bytes[i];
+      }
+      const SimTime start = start_after + r.response.processing + r.station->servo->return_delay();
+      last = std::max(last, start + wire_time(r.bytes.size(), r.station->servo->baud_bps()));
+      stations.push_back(r.station);
+      reboots.push_back(r.response.reboot_after);
+    }
+    send_at(std::move(merged), last, stations, reboots);
+    return;
+  }
+  // A reply starts after the instruction (or the previous reply) ends, plus the servo's own
+  // processing time and Return Delay Time, and reaches the client when its last byte would.
+  SimTime after = start_after;
+  for (const Reply& r : replies) {
+    const SimTime start = after + r.response.processing + r.station->servo->return_delay();
+    const SimTime delivered = start + wire_time(r.bytes.size(), r.station->servo->baud_bps());
+    send_at(r.bytes, delivered, {r.station}, {r.response.reboot_after});
+    after = delivered;
+  }
+}
+
+void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::vector<Station*> stations,
+                  std::vector<bool> reboot_after) {
+  auto outgoing = std::make_shared<Outgoing>();
+  outgoing_.push_back(outgoing);
+  scheduler_.schedule_at(at,
+                         [this, outgoing, bytes = std::move(bytes), stations = std::move(stations),
+                          reboot_after = std::move(reboot_after)] {
+                           std::erase(outgoing_, outgoing);
+                           if (!outgoing->cancelled) {
+                             ++stats_.replies;
+                             link_.deliver(bytes, scheduler_.now());
+                           }
+                           // ID, Baud Rate, Protocol Type and Return Delay Time change after the
+                           // status went out.
+                           for (std::size_t i = 0; i < stations.size(); ++i) {
+                             model::ServoResponse r;
+                             r.reboot_after = reboot_after[i];
+                             settle(*stations[i], r, scheduler_.now());
+                           }
+                         });
+}
+
+void Bus::settle(Station& station, const model::ServoResponse& response, SimTime at) {
+  station.servo->commit_deferred();
+  if (response.reboot_after) {
+    station.servo->reboot();
+    station.booting_until = at + std::chrono::milliseconds(station.servo->spec().timing.boot_ms);
+  }
+}
+
+}  // namespace dxlemu::bus

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "bus/bus_stats.hpp"
+#include "bus/byte_link.hpp"
+#include "model/servo.hpp"
+#include "sim/scheduler.hpp"
+#include "wire/frame.hpp"
+#include "wire/framer.hpp"
+
+namespace dxlemu::bus {
+
+/// One port: the servos on it, the framers that hear the client, and the timing of every reply on
+/// the virtual clock. Receives the client's bytes, decides which servos are addressed, lets them
+/// execute, and schedules their status packets when real servos would have put them on the wire.
+/// Rules and timing: docs/bus.md.
+class Bus {
+ public:
+  /// A bus that takes time from `scheduler` and sends replies through `link`; both must outlive it.
+  Bus(sim::Scheduler& scheduler, ByteLink& link);
+  Bus(const Bus&) = delete;
+  Bus& operator=(const Bus&) = delete;
+  ~Bus();
+
+  /// Adds a servo to the bus and returns it. Two servos may share an ID (their replies collide).
+  model::Servo& add_servo(std::unique_ptr<model::Servo> servo);
+
+  /// The client wrote `bytes`, which arrived at `at` (the scheduler's time) while the client's
+  /// serial port was set to `client_bps`.
+  void receive(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t client_bps);
+
+  /// The servos, in the order they were added.
+  const std::vector<std::unique_ptr<model::Servo>>& servos() const { return servos_; }
+
+  /// True while `servo` is booting after Reboot, Factory Reset or Backup restore (silent).
+  bool booting(const model::Servo& servo) const;
+
+  /// Counters since the bus was made.
+  const BusStats& stats() const { return stats_; }
+
+ private:
+  struct Station;  // a servo and its bus-side state
+  struct Outgoing;
+  struct Reply {
+    Station* station;
+    model::ServoResponse response;
+    std::vector<std::uint8_t> bytes;
+  };
+
+  void on_frame(const wire::Frame& frame, std::uint32_t client_bps);
+  void on_bad_check(const wire::FramingError& error, sim::SimTime line_end,
+                    std::uint32_t client_bps);
+  std::vector<Station*> listeners(wire::Protocol protocol, std::uint32_t client_bps,
+                                  sim::SimTime now);
+  std::vector<Station*> addressed(const std::vector<Station*>& listening, std::uint8_t id) const;
+  void single(const wire::InstructionPacket& packet, sim::SimTime line_end,
+              std::uint32_t client_bps);
+  void group_read(const wire::InstructionPacket& packet, sim::SimTime line_end,
+                  std::uint32_t client_bps);
+  void group_write(const wire::InstructionPacket& packet, sim::SimTime line_end,
+                   std::uint32_t client_bps);
+  void answer(const std::vector<Reply>& replies, sim::SimTime start_after, bool chained);
+  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, std::vector<Station*> stations,
+               std::vector<bool> reboot_after);
+  void settle(Station& station, const model::ServoResponse& response, sim::SimTime at);
+  std::vector<std::uint8_t> status_bytes(const Station& station,
+                                         const model::ServoResponse& response) const;
+
+  sim::Scheduler& scheduler_;
+  ByteLink& link_;
+  std::vector<std::unique_ptr<model::Servo>> servos_;
+  std::vector<std::unique_ptr<Station>> stations_;
+  wire::Framer v1_framer_{wire::Protocol::V1};
+  wire::Framer v2_framer_{wire::Protocol::V2};
+  std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
+  BusStats stats_;
+};
+
+}  // namespace dxlemu::bus

@@ -1,0 +1,23 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "sim/sim_time.hpp"
+
+namespace dxlemu::bus {
+
+/// Where a bus sends bytes to the client: the PTY in the daemon (io/), a recorder in tests.
+class ByteLink {
+ public:
+  ByteLink() = default;
+  ByteLink(const ByteLink&) = delete;
+  ByteLink& operator=(const ByteLink&) = delete;
+  virtual ~ByteLink() = default;
+
+  /// Hands `bytes` to the client at simulated time `at`, the moment their last byte would have
+  /// arrived on a real line. Called from a scheduler event, at `at`.
+  virtual void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) = 0;
+};
+
+}  // namespace dxlemu::bus

@@ -1,0 +1,355 @@
+#include "model/servo.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <type_traits>
+
+namespace dxlemu::model {
+namespace {
+
+using std::chrono::microseconds;
+
+// Status Return Level (includes/control_table_status_return_lv.md): 0 answers Ping only,
+// 1 also Read, 2 everything.
+constexpr std::int64_t kSrlReads = 1;
+constexpr std::int64_t kSrlAll = 2;
+
+// Protocol 1.0 families compute the bit rate of Baud Rate n as 2,000,000 / (n + 1)
+// (includes/control_table_baudrate.md) for values their table does not list.
+constexpr std::uint32_t kV1BaudBase = 2'000'000;
+
+// Clear option and Control Table Backup options (protocol2.md).
+constexpr std::uint8_t kClearMultiTurn = 0x01;
+constexpr std::uint8_t kBackupStore = 0x01;
+constexpr std::uint8_t kBackupRestore = 0x02;
+
+// Startup Configuration bits
+// (includes/docs-partials/x__control_table_60_startup_configuration.mdx).
+constexpr std::int64_t kStartupTorqueOn = 0x01;
+constexpr std::int64_t kStartupRamRestore = 0x02;
+
+// RAM items a Control Table Backup keeps besides the EEPROM (protocol2.md "Control Table Backup").
+constexpr std::array<std::string_view, 9> kBackedUpRam = {
+    "velocity_i_gain",      "velocity_p_gain",      "position_d_gain",
+    "position_i_gain",      "position_p_gain",      "feedforward_2nd_gain",
+    "feedforward_1st_gain", "profile_acceleration", "profile_velocity"};
+constexpr std::string_view kIndirectAddressPrefix = "indirect_address_";
+
+bool is_v1_family(Family family) {
+  return family == Family::Ax || family == Family::Rx || family == Family::Ex ||
+         family == Family::Mx1;
+}
+
+}  // namespace
+
+Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id) : table_(std::move(spec)) {
+  table_.set("id", id);
+  commit_deferred();
+}
+
+std::optional<std::size_t> Servo::item(std::initializer_list<std::string_view> keys) const {
+  for (const std::string_view key : keys) {
+    if (const auto i = spec().index_of(key)) {
+      return i;
+    }
+  }
+  return std::nullopt;
+}
+
+void Servo::commit_deferred() {
+  id_ = static_cast<std::uint8_t>(table_.get("id"));
+  // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
+  if (const auto p = item({"protocol_type", "protocol_version"})) {
+    const std::int64_t v = table_.get(*p);
+    protocol_ = v == 1   ? std::optional(wire::Protocol::V1)
+                : v == 2 ? std::optional(wire::Protocol::V2)
+                         : std::nullopt;  // S.BUS, iBUS, RC-PWM, Modbus: not a DYNAMIXEL bus
+  } else {
+    protocol_ = spec().protocols.front();
+  }
+  const std::int64_t index = table_.get("baud_rate");
+  const auto bps = spec().bps_for_index(index);
+  baud_bps_ = bps                           ? *bps
+              : is_v1_family(spec().family) ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
+                                            : 0;
+  return_delay_ = microseconds(table_.get("return_delay_time") * spec().return_delay_unit_us);
+}
+
+std::uint8_t Servo::error_byte_v2(wire::StatusError error) const {
+  const auto hw = item({"hardware_error_status"});
+  return wire::status_error_byte(error, hw && table_.get(*hw) != 0);
+}
+
+std::uint8_t Servo::error_byte(TableError error) const {
+  if (protocol_ == wire::Protocol::V1) {
+    return v1_error_bits(error);
+  }
+  return error_byte_v2(v2_status_error(error));
+}
+
+std::uint8_t Servo::instruction_error() const {
+  return protocol_ == wire::Protocol::V1 ? wire::v1_error::kInstruction
+                                         : error_byte_v2(wire::StatusError::Instruction);
+}
+
+bool Servo::supports_fast_read() const {
+  return (spec().family == Family::X && spec().axes == 1) || spec().family == Family::P;
+}
+
+bool Servo::supports_v1_bulk_read() const {
+  return spec().family == Family::Mx1 || spec().family == Family::Mx2 || spec().family == Family::X;
+}
+
+ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
+  ServoResponse r;
+  r.reply = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
+  r.processing = write_time(0);
+  r.error = protocol_ == wire::Protocol::V1 ? wire::v1_error::kChecksum
+                                            : error_byte_v2(wire::StatusError::Crc);
+  return r;
+}
+
+bool Servo::replies_to(bool is_read) const {
+  const auto srl = item({"status_return_level"});
+  const std::int64_t level = srl ? table_.get(*srl) : kSrlAll;
+  return level >= kSrlAll || (is_read && level >= kSrlReads);
+}
+
+sim::SimDuration Servo::write_time(std::size_t bytes) const {
+  const Timing& t = spec().timing;
+  return microseconds(t.write_us + t.write_per_byte_us * bytes);
+}
+
+ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration processing) const {
+  ServoResponse r;
+  r.reply = true;
+  r.error = error_byte(result.error);
+  r.processing = processing;
+  return r;
+}
+
+ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadcast) {
+  const Timing& timing = spec().timing;
+  ServoResponse r = std::visit(
+      [&](const auto& ins) -> ServoResponse {
+        using T = std::decay_t<decltype(ins)>;
+        if constexpr (std::is_same_v<T, wire::Ping>) {
+          // Ping is answered whatever the Status Return Level, broadcast too (protocol2.md "Ping").
+          ServoResponse ping;
+          ping.reply = true;
+          ping.error = error_byte(TableError::None);
+          ping.processing = microseconds(timing.ping_us);
+          if (packet.protocol == wire::Protocol::V2) {
+            ping.params = {static_cast<std::uint8_t>(spec().model_number & 0xFF),
+                           static_cast<std::uint8_t>(spec().model_number >> 8),
+                           spec().firmware_version};
+          }
+          return ping;
+        } else if constexpr (std::is_same_v<T, wire::Read>) {
+          if (broadcast) {
+            return {};  // "Read Instructions are not executed when sent to the Broadcast ID"
+          }
+          ServoResponse read = read_part(ins.address, ins.length);
+          read.reply = replies_to(true);
+          return read;
+        } else if constexpr (std::is_same_v<T, wire::Write>) {
+          const TableResult result = table_.bus_write(ins.address, ins.data, packet.protocol);
+          return from_table(result, write_time(ins.data.size()));
+        } else if constexpr (std::is_same_v<T, wire::RegWrite>) {
+          // The data is checked on arrival; a refused Reg Write registers nothing.
+          const TableResult result = table_.check_write(ins.address, ins.data, packet.protocol);
+          if (result.ok()) {
+            registered_ = Registered{ins.address, ins.data};
+            if (const auto flag = item({"registered_instruction", "registered"})) {
+              table_.set(*flag, 1);
+            }
+          }
+          return from_table(result, write_time(ins.data.size()));
+        } else if constexpr (std::is_same_v<T, wire::Action>) {
+          if (!registered_) {
+            // protocol2.md "Error": Instruction Error when Action comes without Reg Write.
+            ServoResponse refused = from_table({}, write_time(0));
+            refused.error = instruction_error();
+            return refused;
+          }
+          const Registered pending = std::move(*registered_);
+          registered_.reset();
+          if (const auto flag = item({"registered_instruction", "registered"})) {
+            table_.set(*flag, 0);
+          }
+          const TableResult result =
+              table_.bus_write(pending.address, pending.data, packet.protocol);
+          return from_table(result, write_time(pending.data.size()));
+        } else if constexpr (std::is_same_v<T, wire::FactoryReset>) {
+          return do_factory_reset(ins.option, broadcast);
+        } else if constexpr (std::is_same_v<T, wire::Reboot>) {
+          ServoResponse reboot = from_table({}, write_time(0));
+          // protocol1.md "Reboot": MX (v40+), MX(2.0) and X only; AX, RX, EX do not know it.
+          if (is_v1_family(spec().family) && spec().family != Family::Mx1) {
+            reboot.error = instruction_error();
+            return reboot;
+          }
+          reboot.reboot_after = true;
+          return reboot;
+        } else if constexpr (std::is_same_v<T, wire::Clear>) {
+          return do_clear(ins);
+        } else if constexpr (std::is_same_v<T, wire::ControlTableBackup>) {
+          return do_backup(ins);
+        } else if constexpr (std::is_same_v<T, wire::UnknownInstruction>) {
+          ServoResponse unknown = from_table({}, write_time(0));
+          unknown.error = instruction_error();
+          return unknown;
+        } else {
+          // Sync/Bulk instructions address several servos: the bus splits them into
+          // read_part/write_part calls, so a servo never executes them whole.
+          return {};
+        }
+      },
+      packet.instruction);
+  if (std::holds_alternative<wire::Ping>(packet.instruction)) {
+    return r;
+  }
+  // No status to broadcast instructions (protocol2.md "Packet ID"); Status Return Level
+  // suppresses the status but not the effect (includes/control_table_status_return_lv.md).
+  const bool is_read = std::holds_alternative<wire::Read>(packet.instruction);
+  r.reply = r.reply && !broadcast && replies_to(is_read);
+  return r;
+}
+
+ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {
+  ServoResponse r;
+  const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
+  r.reply = !broadcast && replies_to(is_read);
+  r.processing = write_time(0);
+  if (protocol_ == wire::Protocol::V1) {
+    r.error = error.kind == wire::DecodeErrorKind::BadValue ? wire::v1_error::kRange
+                                                            : wire::v1_error::kInstruction;
+  } else {
+    r.error = error_byte_v2(error.kind == wire::DecodeErrorKind::BadValue
+                                ? wire::StatusError::DataRange
+                                : wire::StatusError::DataLength);
+  }
+  return r;
+}
+
+ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
+  ServoResponse r;
+  r.reply = true;
+  r.processing = microseconds(spec().timing.read_us);
+  const TableResult result = table_.bus_read(address, length, r.params);
+  r.error = error_byte(result.error);
+  return r;
+}
+
+void Servo::write_part(std::uint16_t address, std::span<const std::uint8_t> data) {
+  if (protocol_) {
+    table_.bus_write(address, data, *protocol_);
+  }
+}
+
+ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
+  ServoResponse r = from_table({}, write_time(0));
+  // protocol1.md: "Broadcast ID(0xFE) cannot be used for Factory Reset instruction"; protocol2.md:
+  // broadcast with option 0xFF is not executed (MX(2.0) and X from firmware 42).
+  if (broadcast && (protocol_ == wire::Protocol::V1 || option == wire::factory_reset::kResetAll)) {
+    r.reply = false;
+    return r;
+  }
+  const std::int64_t id = table_.get("id");
+  const std::int64_t baud = table_.get("baud_rate");
+  table_.load_initial(true);
+  if (option == wire::factory_reset::kResetAllButId ||
+      option == wire::factory_reset::kResetAllButIdAndBaud) {
+    table_.set("id", id);
+  }
+  if (option == wire::factory_reset::kResetAllButIdAndBaud) {
+    table_.set("baud_rate", baud);
+  }
+  r.reboot_after = true;
+  return r;
+}
+
+ServoResponse Servo::do_clear(const wire::Clear& clear) {
+  ServoResponse r = from_table({}, write_time(0));
+  if (clear.option != kClearMultiTurn) {
+    r.error = error_byte_v2(wire::StatusError::DataRange);  // reserved options
+    return r;
+  }
+  // "The Clear instruction can only be executed when the DYNAMIXEL is stopped" (protocol2.md).
+  if (const auto moving = item({"moving"}); moving && table_.get(*moving) != 0) {
+    r.error = error_byte_v2(wire::StatusError::ResultFail);
+    return r;
+  }
+  if (const auto position = item({"present_position"})) {
+    // Back to an absolute position within one rotation (0 ~ 4095 on X).
+    const auto pulses =
+        static_cast<std::int64_t>(std::llround(360.0 / spec().motion.degrees_per_pulse));
+    const std::int64_t p = table_.get(*position);
+    table_.set(*position, ((p % pulses) + pulses) % pulses);
+  }
+  return r;
+}
+
+ServoResponse Servo::do_backup(const wire::ControlTableBackup& backup) {
+  ServoResponse r = from_table({}, write_time(0));
+  // Models with Backup Ready support the instruction (X430/540 fw 45+, X330 fw 46+, P fw 12+).
+  const auto ready = item({"backup_ready"});
+  if (!ready) {
+    r.error = instruction_error();
+    return r;
+  }
+  if (backup.option != kBackupStore && backup.option != kBackupRestore) {
+    r.error = error_byte_v2(wire::StatusError::DataRange);  // reserved options
+    return r;
+  }
+  // "If Torque Enable is set to '1' (Torque On), a Status Packet with Result Fail will be
+  // returned."
+  if (table_.get("torque_enable") != 0 ||
+      (backup.option == kBackupRestore && !backup_.has_value())) {
+    r.error = error_byte_v2(wire::StatusError::ResultFail);
+    return r;
+  }
+  if (backup.option == kBackupStore) {
+    backup_ = std::vector<std::uint8_t>(table_.bytes().begin(), table_.bytes().end());
+    table_.set(*ready, 1);
+    return r;
+  }
+  // Restore EEPROM from the backup, then reboot ("After processing packets, DYNAMIXEL reboots").
+  for (std::size_t i = 0; i < spec().items.size(); ++i) {
+    const ItemSpec& s = spec().items[i];
+    if (s.area == Area::Eeprom && s.access == Access::ReadWrite) {
+      table_.copy_from(i, *backup_);
+    }
+  }
+  r.reboot_after = true;
+  return r;
+}
+
+void Servo::reboot() {
+  table_.load_initial(false);
+  registered_.reset();
+  if (const auto ready = item({"backup_ready"})) {
+    table_.set(*ready, backup_ ? 1 : 0);
+  }
+  const auto startup = item({"startup_configuration"});
+  const std::int64_t config = startup ? table_.get(*startup) : 0;
+  if ((config & kStartupRamRestore) != 0 && backup_) {
+    for (std::size_t i = 0; i < spec().items.size(); ++i) {
+      const ItemSpec& s = spec().items[i];
+      const bool kept =
+          std::find(kBackedUpRam.begin(), kBackedUpRam.end(), s.key) != kBackedUpRam.end() ||
+          s.key.rfind(kIndirectAddressPrefix, 0) == 0;
+      if (s.area == Area::Ram && kept) {
+        table_.copy_from(i, *backup_);
+      }
+    }
+  }
+  if ((config & kStartupTorqueOn) != 0) {
+    table_.set("torque_enable", 1);
+  }
+  commit_deferred();
+}
+
+}  // namespace dxlemu::model

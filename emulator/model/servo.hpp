@@ -1,0 +1,117 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "model/control_table.hpp"
+#include "model/model_spec.hpp"
+#include "sim/sim_time.hpp"
+#include "wire/instruction.hpp"
+#include "wire/instruction_decoder.hpp"
+
+namespace dxlemu::model {
+
+/// What a servo answers to one instruction, before the bus frames and times it.
+struct ServoResponse {
+  bool reply = false;      ///< false: the servo stays silent
+  std::uint8_t error = 0;  ///< the status ERR byte in the servo's protocol (2.0: number | alert)
+  std::vector<std::uint8_t> params;
+  /// Time from the end of the instruction on the wire to the start of the reply, before Return
+  /// Delay Time (the model's processing time for this kind of instruction).
+  sim::SimDuration processing{};
+  /// The servo reboots once its status is out (Reboot, Factory Reset, Backup restore).
+  bool reboot_after = false;
+};
+
+/// One virtual servo: its control table and the state the e-Manual gives a device beyond it (the
+/// Reg Write slot, the Control Table Backup, identity changes waiting for the status to go out).
+/// It executes instructions addressed to it; the bus decides who is addressed and when replies go
+/// out. Rules and choices: docs/servo.md.
+class Servo {
+ public:
+  /// A servo of `spec` at factory settings, except for `id`.
+  Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id);
+
+  const ModelSpec& spec() const { return table_.spec(); }
+  ControlTable& table() { return table_; }
+  const ControlTable& table() const { return table_; }
+
+  /// Identity on the bus. A new ID, Baud Rate, Protocol Type or Return Delay Time written by an
+  /// instruction takes effect only at commit_deferred(), after that instruction's status.
+  std::uint8_t id() const { return id_; }
+  /// The protocol the servo speaks now; nullopt when Protocol Type selects a non-DYNAMIXEL
+  /// protocol (XL330 S.BUS / iBUS / RC-PWM), in which case it answers nothing on the bus.
+  std::optional<wire::Protocol> protocol() const { return protocol_; }
+  /// The bit rate the servo listens at.
+  std::uint32_t baud_bps() const { return baud_bps_; }
+  /// Return Delay Time as a duration.
+  sim::SimDuration return_delay() const { return return_delay_; }
+
+  /// Executes Ping, Read, Write, Reg Write, Action, Factory Reset, Reboot, Clear, Control Table
+  /// Backup or an unknown instruction addressed to this servo (`broadcast`: sent to 0xFE). Applies
+  /// Status Return Level and the broadcast rules to decide whether it replies.
+  ServoResponse execute(const wire::InstructionPacket& packet, bool broadcast);
+
+  /// The answer to an instruction whose parameters could not be decoded (error status, unless
+  /// broadcast or suppressed by Status Return Level).
+  ServoResponse refuse(const wire::DecodeError& error, bool broadcast) const;
+
+  /// The answer to an instruction packet with a wrong CRC (2.0: CRC Error) or checksum (1.0:
+  /// Checksum Error bit), sent to this servo's ID; `instruction` is the unverified instruction
+  /// byte.
+  ServoResponse bad_check(std::optional<std::uint8_t> instruction) const;
+
+  /// True when Status Return Level lets the servo answer a read (`is_read`) or anything else.
+  bool replies_to(bool is_read) const;
+
+  /// True for the models that take part in Fast Sync/Bulk Read (protocol2.md: X430/540 except
+  /// 2XL/2XC, X330, P).
+  bool supports_fast_read() const;
+
+  /// True for the models that execute the Protocol 1.0 Bulk Read (protocol1.md: MX, MX(2.0), X).
+  bool supports_v1_bulk_read() const;
+
+  /// This servo's part of a Sync/Bulk Read (or Fast): its data, or an error and no data.
+  ServoResponse read_part(std::uint16_t address, std::uint16_t length);
+
+  /// This servo's part of a Sync/Bulk Write: applied like a Write, never answered.
+  void write_part(std::uint16_t address, std::span<const std::uint8_t> data);
+
+  /// Applies the ID, Baud Rate, Protocol Type and Return Delay Time the control table holds now.
+  void commit_deferred();
+
+  /// Reboot or power cycle: RAM back to initial values (or the backup, if Startup Configuration
+  /// asks for it), the Reg Write slot emptied, identity refreshed.
+  void reboot();
+
+  /// True when the last Control Table Backup store succeeded and has not been lost.
+  bool has_backup() const { return backup_.has_value(); }
+
+ private:
+  std::uint8_t error_byte(TableError error) const;
+  std::uint8_t error_byte_v2(wire::StatusError error) const;
+  std::uint8_t instruction_error() const;
+  ServoResponse from_table(const TableResult& result, sim::SimDuration processing) const;
+  ServoResponse do_factory_reset(std::uint8_t option, bool broadcast);
+  ServoResponse do_clear(const wire::Clear& clear);
+  ServoResponse do_backup(const wire::ControlTableBackup& backup);
+  sim::SimDuration write_time(std::size_t bytes) const;
+  std::optional<std::size_t> item(std::initializer_list<std::string_view> keys) const;
+
+  ControlTable table_;
+  std::uint8_t id_ = 1;
+  std::optional<wire::Protocol> protocol_;
+  std::uint32_t baud_bps_ = 0;
+  sim::SimDuration return_delay_{};
+  struct Registered {
+    std::uint16_t address;
+    std::vector<std::uint8_t> data;
+  };
+  std::optional<Registered> registered_;
+  std::optional<std::vector<std::uint8_t>> backup_;  // the whole byte image when stored
+};
+
+}  // namespace dxlemu::model

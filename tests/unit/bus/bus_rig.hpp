@@ -1,0 +1,42 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "bus/bus.hpp"
+#include "bus/line_timing.hpp"
+#include "bus/loopback_link.hpp"
+#include "shipped_model.hpp"
+#include "wire/instruction_encoder.hpp"
+#include "wire/packet_encoder.hpp"
+
+namespace dxlemu::test {
+
+/// A bus of shipped models on a hand-advanced clock, recording what reaches the client.
+struct BusRig {
+  static constexpr std::uint32_t kBaud = 57600;  // every shipped X model's factory rate
+
+  sim::Scheduler scheduler;
+  bus::LoopbackLink link;
+  bus::Bus bus{scheduler, link};
+
+  /// Adds a servo of the shipped model `name` with `id`.
+  model::Servo& add(const std::string& name, std::uint8_t id) {
+    return bus.add_servo(std::make_unique<model::Servo>(shipped_model(name), id));
+  }
+  /// The client writes `packet` now at `bps`; returns the instruction's size in bytes.
+  std::size_t send(const wire::InstructionPacket& packet, std::uint32_t bps = kBaud) {
+    const auto bytes = wire::encode_instruction(packet);
+    bus.receive(bytes, scheduler.now(), bps);
+    return bytes.size();
+  }
+  /// Lets simulated time pass (default: long enough for any reply).
+  void run(sim::SimDuration d = std::chrono::seconds(1)) { scheduler.advance_by(d); }
+};
+
+/// The line time of `bytes` at the rig's baud rate.
+inline sim::SimDuration line(std::size_t bytes, std::uint32_t bps = BusRig::kBaud) {
+  return bus::wire_time(bytes, bps);
+}
+
+}  // namespace dxlemu::test
