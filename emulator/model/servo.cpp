@@ -132,6 +132,10 @@ ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration proc
 
 ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadcast) {
   const Timing& timing = spec().timing;
+  // Status Return Level as it is when the instruction arrives: a Write or Factory Reset that
+  // changes the level does not change whether this instruction is answered.
+  const bool is_read = std::holds_alternative<wire::Read>(packet.instruction);
+  const bool srl_allows = replies_to(is_read);
   ServoResponse r = std::visit(
       [&](const auto& ins) -> ServoResponse {
         using T = std::decay_t<decltype(ins)>;
@@ -151,9 +155,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadca
           if (broadcast) {
             return {};  // "Read Instructions are not executed when sent to the Broadcast ID"
           }
-          ServoResponse read = read_part(ins.address, ins.length);
-          read.reply = replies_to(true);
-          return read;
+          return read_part(ins.address, ins.length);
         } else if constexpr (std::is_same_v<T, wire::Write>) {
           const TableResult result = table_.bus_write(ins.address, ins.data, packet.protocol);
           return from_table(result, write_time(ins.data.size()));
@@ -213,8 +215,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadca
   }
   // No status to broadcast instructions (protocol2.md "Packet ID"); Status Return Level
   // suppresses the status but not the effect (includes/control_table_status_return_lv.md).
-  const bool is_read = std::holds_alternative<wire::Read>(packet.instruction);
-  r.reply = r.reply && !broadcast && replies_to(is_read);
+  r.reply = r.reply && !broadcast && srl_allows;
   return r;
 }
 
@@ -350,6 +351,12 @@ void Servo::reboot() {
     table_.set("torque_enable", 1);
   }
   commit_deferred();
+  // includes/control_table_protocolversion.md (XL330/XC330): with an RC protocol selected, the
+  // device switches to Protocol 2.0 when no RC signal is detected during booting. The emulator
+  // has no RC input, so that is always the case.
+  if (!protocol_) {
+    protocol_ = wire::Protocol::V2;
+  }
 }
 
 }  // namespace dxlemu::model

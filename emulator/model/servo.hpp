@@ -42,8 +42,9 @@ class Servo {
   /// Identity on the bus. A new ID, Baud Rate, Protocol Type or Return Delay Time written by an
   /// instruction takes effect only at commit_deferred(), after that instruction's status.
   std::uint8_t id() const { return id_; }
-  /// The protocol the servo speaks now; nullopt when Protocol Type selects a non-DYNAMIXEL
-  /// protocol (XL330 S.BUS / iBUS / RC-PWM), in which case it answers nothing on the bus.
+  /// The protocol the servo speaks now; nullopt when Protocol Type has just selected a
+  /// non-DYNAMIXEL protocol (XL330 S.BUS / iBUS / RC-PWM): it answers nothing on the bus until it
+  /// reboots, and then speaks 2.0 because no RC signal is present.
   std::optional<wire::Protocol> protocol() const { return protocol_; }
   /// The bit rate the servo listens at.
   std::uint32_t baud_bps() const { return baud_bps_; }
@@ -84,7 +85,8 @@ class Servo {
   void commit_deferred();
 
   /// Reboot or power cycle: RAM back to initial values (or the backup, if Startup Configuration
-  /// asks for it), the Reg Write slot emptied, identity refreshed.
+  /// asks for it), the Reg Write slot emptied, identity refreshed (an RC Protocol Type falls back
+  /// to 2.0, as with no RC signal at boot).
   void reboot();
 
   /// True when the last Control Table Backup store succeeded and has not been lost.
