@@ -15,6 +15,7 @@ using sim::SimTime;
 struct Bus::Station {
   model::Servo* servo = nullptr;
   SimTime booting_until{};  // silent before this (Reboot, Factory Reset, Backup restore)
+  std::optional<sim::Scheduler::EventId> watchdog;  // the Bus Watchdog's expiry, while armed
 };
 
 // A reply scheduled for delivery. A collision marks it cancelled: the event still runs (the servo
@@ -56,7 +57,8 @@ Bus::~Bus() = default;
 
 model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
   servos_.push_back(std::move(servo));
-  stations_.push_back(std::make_unique<Station>(Station{servos_.back().get(), {}}));
+  stations_.push_back(std::make_unique<Station>());
+  stations_.back()->servo = servos_.back().get();
   return *servos_.back();
 }
 
@@ -90,6 +92,37 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
       (protocol == wire::Protocol::V1 ? v1_framer_ : v2_framer_).feed(bytes, at, events);
     }
   }
+  handle(events, client_bps);
+  schedule_expiry(client_bps);
+}
+
+// A partial packet is dropped when the line stays quiet past the inter-byte timeout; an event at
+// the framers' deadline makes that happen (and be counted) without waiting for more bytes.
+void Bus::schedule_expiry(std::uint32_t client_bps) {
+  if (expiry_) {
+    scheduler_.cancel(*expiry_);
+    expiry_.reset();
+  }
+  std::optional<SimTime> deadline;
+  for (const wire::Framer* f : {&v1_framer_, &v2_framer_}) {
+    if (const auto d = f->deadline(); d && (!deadline || *d < *deadline)) {
+      deadline = d;
+    }
+  }
+  if (!deadline) {
+    return;
+  }
+  expiry_ = scheduler_.schedule_at(*deadline, [this, client_bps] {
+    expiry_.reset();
+    std::vector<wire::FramerEvent> events;
+    v1_framer_.expire(scheduler_.now(), events);
+    v2_framer_.expire(scheduler_.now(), events);
+    handle(events, client_bps);
+    schedule_expiry(client_bps);
+  });
+}
+
+void Bus::handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps) {
   for (const wire::FramerEvent& event : events) {
     if (const auto* frame = std::get_if<wire::Frame>(&event)) {
       ++stats_.frames;
@@ -111,6 +144,25 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
       case wire::FramingErrorKind::Truncated:
         ++stats_.truncated;
         break;
+    }
+  }
+}
+
+void Bus::rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, SimTime now) {
+  // "The communication is defined as all the Instruction Packet in the DYNAMIXEL Protocol": every
+  // packet a servo hears restarts its Bus Watchdog (includes/control_table_buswatchdog.md).
+  for (Station* s : listeners(protocol, client_bps, now)) {
+    if (s->watchdog) {
+      scheduler_.cancel(*s->watchdog);
+      s->watchdog.reset();
+    }
+    if (const auto period = s->servo->bus_watchdog_period()) {
+      s->watchdog = scheduler_.schedule_at(now + *period, [this, s] {
+        s->watchdog.reset();
+        if (s->servo->bus_watchdog_period()) {
+          s->servo->expire_bus_watchdog();
+        }
+      });
     }
   }
 }
@@ -169,6 +221,7 @@ void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
         }
       },
       packet.instruction);
+  rearm_watchdogs(frame.protocol, client_bps, end);
 }
 
 void Bus::on_bad_check(const wire::FramingError& error, SimTime end, std::uint32_t client_bps) {
@@ -189,24 +242,33 @@ void Bus::on_bad_check(const wire::FramingError& error, SimTime end, std::uint32
 
 void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {
   const bool broadcast = packet.id == wire::kBroadcastId;
-  std::vector<Station*> targets = listeners(packet.protocol, client_bps, end);
-  if (!broadcast) {
-    targets = addressed(targets, packet.id);
+  std::vector<std::pair<Station*, model::Addressing>> targets;
+  for (Station* s : listeners(packet.protocol, client_bps, end)) {
+    if (broadcast) {
+      targets.emplace_back(s, model::Addressing::Broadcast);
+    } else if (s->servo->id() == packet.id) {
+      targets.emplace_back(s, model::Addressing::Unicast);
+    } else if (s->servo->secondary_id() == packet.id) {
+      // The ID takes priority, but the group of that Secondary ID executes too, silently.
+      targets.emplace_back(s, model::Addressing::Secondary);
+    }
   }
   // Broadcast Ping: every servo answers, in ascending ID order (protocol2.md "Ping" Example 2).
-  std::stable_sort(targets.begin(), targets.end(), [](const Station* a, const Station* b) {
-    return a->servo->id() < b->servo->id();
+  std::stable_sort(targets.begin(), targets.end(), [](const auto& a, const auto& b) {
+    return a.first->servo->id() < b.first->servo->id();
   });
   std::vector<Reply> replies;
-  for (Station* s : targets) {
-    model::ServoResponse r = s->servo->execute(packet, broadcast);
+  for (const auto& [s, addressing] : targets) {
+    model::ServoResponse r = s->servo->execute(packet, addressing);
     if (r.reply) {
       replies.push_back({s, r, status_bytes(*s, r)});
     } else {
       settle(*s, r, end);
     }
   }
-  answer(replies, end, broadcast);
+  // Protocol 2.0 chains broadcast Ping replies; Protocol 1.0 defines no order, so 1.0 servos
+  // answer a broadcast Ping at once and collide when there are several (docs/bus.md).
+  answer(replies, end, broadcast && packet.protocol == wire::Protocol::V2);
 }
 
 void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -51,6 +52,9 @@ class Bus {
     std::vector<std::uint8_t> bytes;
   };
 
+  void handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps);
+  void schedule_expiry(std::uint32_t client_bps);
+  void rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, sim::SimTime now);
   void on_frame(const wire::Frame& frame, std::uint32_t client_bps);
   void on_bad_check(const wire::FramingError& error, sim::SimTime line_end,
                     std::uint32_t client_bps);
@@ -77,6 +81,7 @@ class Bus {
   wire::Framer v1_framer_{wire::Protocol::V1};
   wire::Framer v2_framer_{wire::Protocol::V2};
   std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
+  std::optional<sim::Scheduler::EventId> expiry_;    // the framers' inter-byte timeout
   BusStats stats_;
 };
 

@@ -253,6 +253,16 @@ TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::
   return {};
 }
 
+bool ControlTable::touches_eeprom(std::uint16_t address, std::size_t length) const {
+  for (std::size_t a = address; a < std::min(image_.size(), std::size_t{address} + length); ++a) {
+    const int item = item_at_[a];
+    if (item != kNoItem && spec_->items[static_cast<std::size_t>(item)].area == Area::Eeprom) {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ControlTable::eeprom_locked() const {
   if (eeprom_lock_) {
     return eeprom_lock_();

@@ -57,6 +57,9 @@ class ControlTable {
   TableResult check_write(std::uint16_t address, std::span<const std::uint8_t> data,
                           wire::Protocol protocol) const;
 
+  /// True when any of `length` bytes from `address` belongs to an EEPROM item.
+  bool touches_eeprom(std::uint16_t address, std::size_t length) const;
+
   /// Device side: the value of an item, bypassing hooks.
   std::int64_t get(std::size_t item) const;
   /// Device side: the value of the item with `key`. Throws std::out_of_range for an unknown key.

@@ -49,12 +49,36 @@ void install_angle_limit(ControlTable& table) {
       });
 }
 
+// includes/control_table_buswatchdog.md: after a Bus Watchdog error (-1) "the Goal Value ... will
+// be changed to read-only-access ... the Status Packet will send the Data Range Error" until
+// Bus Watchdog is written 0.
+void install_bus_watchdog(ControlTable& table) {
+  const auto watchdog = table.spec().index_of("bus_watchdog");
+  if (!watchdog) {
+    return;
+  }
+  for (const std::string_view goal :
+       {"goal_pwm", "goal_current", "goal_velocity", "goal_position"}) {
+    if (table.spec().index_of(goal)) {
+      table.add_validator(goal, [&table, watchdog = *watchdog](std::size_t, std::int64_t) {
+        if (table.get(watchdog) >= 0) {
+          return TableResult{};
+        }
+        return TableResult::fail(TableError::DataRange,
+                                 "Bus Watchdog error: goal values are read-only until Bus "
+                                 "Watchdog is written 0");
+      });
+    }
+  }
+}
+
 }  // namespace
 
 void install_family_rules(ControlTable& table) {
   if (has_angle_limits(table.spec().family)) {
     install_angle_limit(table);
   }
+  install_bus_watchdog(table);
 }
 
 }  // namespace dxlemu::model

@@ -8,7 +8,9 @@ namespace dxlemu::model {
 /// ranges and limits. Today: in joint mode, Goal Position must lie between CW and CCW Angle Limit
 /// (AX, RX, EX, MX 1.0, XL-320: includes/ax-legacy-page-description-sections.md, protocol1.md
 /// "Angle Limit Error"); wheel mode (both limits 0) and MX 1.0 multi-turn mode (both 4095) take
-/// any Goal Position in range. ControlTable's constructor calls this.
+/// any Goal Position in range. Bus Watchdog error (-1): goal writes refused with Data Range Error
+/// until Bus Watchdog is written 0 (includes/control_table_buswatchdog.md). ControlTable's
+/// constructor calls this.
 void install_family_rules(ControlTable& table);
 
 }  // namespace dxlemu::model

@@ -37,6 +37,13 @@ constexpr std::array<std::string_view, 9> kBackedUpRam = {
     "feedforward_1st_gain", "profile_acceleration", "profile_velocity"};
 constexpr std::string_view kIndirectAddressPrefix = "indirect_address_";
 
+// Secondary ID values 253 ~ 255 turn the function off (e-Manual control_table_shadowid include).
+constexpr std::int64_t kMaxSecondaryId = 252;
+
+// Bus Watchdog (includes/control_table_buswatchdog.md): 1 ~ 127 in 20 ms units; -1 after expiry.
+constexpr std::int64_t kBusWatchdogUnitMs = 20;
+constexpr std::int64_t kBusWatchdogError = -1;
+
 bool is_v1_family(Family family) {
   return family == Family::Ax || family == Family::Rx || family == Family::Ex ||
          family == Family::Mx1;
@@ -130,8 +137,12 @@ ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration proc
   return r;
 }
 
-ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadcast) {
+ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing addressing) {
   const Timing& timing = spec().timing;
+  const bool broadcast = addressing == Addressing::Broadcast;
+  if (addressing == Addressing::Secondary) {
+    return execute_secondary(packet);
+  }
   // Status Return Level as it is when the instruction arrives: a Write or Factory Reset that
   // changes the level does not change whether this instruction is answered.
   const bool is_read = std::holds_alternative<wire::Read>(packet.instruction);
@@ -217,6 +228,53 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, bool broadca
   // suppresses the status but not the effect (includes/control_table_status_return_lv.md).
   r.reply = r.reply && !broadcast && srl_allows;
   return r;
+}
+
+ServoResponse Servo::execute_secondary(const wire::InstructionPacket& packet) {
+  // Secondary (Shadow) ID: a group address. "The Status Packet is not returned" and only the RAM
+  // area can be changed through it, so Write, Reg Write and Action are executed when they touch
+  // RAM only; everything else is ignored (docs/servo.md).
+  const auto* write = std::get_if<wire::Write>(&packet.instruction);
+  const auto* reg_write = std::get_if<wire::RegWrite>(&packet.instruction);
+  if (write != nullptr && !table_.touches_eeprom(write->address, write->data.size())) {
+    table_.bus_write(write->address, write->data, packet.protocol);
+  } else if (reg_write != nullptr &&
+             !table_.touches_eeprom(reg_write->address, reg_write->data.size())) {
+    execute({packet.protocol, id_, *reg_write}, Addressing::Broadcast);
+  } else if (std::holds_alternative<wire::Action>(packet.instruction)) {
+    execute(packet, Addressing::Broadcast);
+  }
+  return {};
+}
+
+std::optional<std::uint8_t> Servo::secondary_id() const {
+  const auto item_index = item({"secondary_id"});
+  if (!item_index) {
+    return std::nullopt;
+  }
+  const std::int64_t v = table_.get(*item_index);
+  return v <= kMaxSecondaryId ? std::optional(static_cast<std::uint8_t>(v)) : std::nullopt;
+}
+
+std::optional<sim::SimDuration> Servo::bus_watchdog_period() const {
+  const auto watchdog = item({"bus_watchdog"});
+  if (!watchdog || table_.get("torque_enable") == 0 || table_.get(*watchdog) <= 0) {
+    return std::nullopt;
+  }
+  return std::chrono::milliseconds(table_.get(*watchdog) * kBusWatchdogUnitMs);
+}
+
+void Servo::expire_bus_watchdog() {
+  table_.set("bus_watchdog", kBusWatchdogError);
+  // "The DYNAMIXEL will stop": hold where it is (the motion model refines this).
+  if (const auto velocity = item({"goal_velocity"})) {
+    table_.set(*velocity, 0);
+  }
+  const auto goal = item({"goal_position"});
+  const auto present = item({"present_position"});
+  if (goal && present && spec().items[*goal].in_range(table_.get(*present))) {
+    table_.set(*goal, table_.get(*present));
+  }
 }
 
 ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {

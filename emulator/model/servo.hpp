@@ -14,6 +14,10 @@
 
 namespace dxlemu::model {
 
+/// How an instruction reached a servo: by its ID, by the broadcast ID, or by its Secondary
+/// (Shadow) ID, which executes RAM changes silently (docs/servo.md).
+enum class Addressing { Unicast, Broadcast, Secondary };
+
 /// What a servo answers to one instruction, before the bus frames and times it.
 struct ServoResponse {
   bool reply = false;      ///< false: the servo stays silent
@@ -52,9 +56,21 @@ class Servo {
   sim::SimDuration return_delay() const { return return_delay_; }
 
   /// Executes Ping, Read, Write, Reg Write, Action, Factory Reset, Reboot, Clear, Control Table
-  /// Backup or an unknown instruction addressed to this servo (`broadcast`: sent to 0xFE). Applies
-  /// Status Return Level and the broadcast rules to decide whether it replies.
-  ServoResponse execute(const wire::InstructionPacket& packet, bool broadcast);
+  /// Backup or an unknown instruction addressed to this servo. Applies Status Return Level and
+  /// the broadcast and Secondary ID rules to decide whether it replies.
+  ServoResponse execute(const wire::InstructionPacket& packet, Addressing addressing);
+
+  /// The Secondary (Shadow) ID when it is active (0 ~ 252), else nullopt.
+  std::optional<std::uint8_t> secondary_id() const;
+
+  /// The Bus Watchdog period while it is armed (Torque Enable 1 and Bus Watchdog 1 ~ 127, in
+  /// 20 ms units), else nullopt (includes/control_table_buswatchdog.md).
+  std::optional<sim::SimDuration> bus_watchdog_period() const;
+
+  /// No instruction packet for a whole Bus Watchdog period: the servo stops (Goal Velocity 0,
+  /// Goal Position held at Present Position) and Bus Watchdog becomes -1, which refuses goal
+  /// writes with Data Range Error until 0 is written.
+  void expire_bus_watchdog();
 
   /// The answer to an instruction whose parameters could not be decoded (error status, unless
   /// broadcast or suppressed by Status Return Level).
@@ -98,6 +114,7 @@ class Servo {
   std::uint8_t instruction_error() const;
   ServoResponse from_table(const TableResult& result, sim::SimDuration processing) const;
   ServoResponse do_factory_reset(std::uint8_t option, bool broadcast);
+  ServoResponse execute_secondary(const wire::InstructionPacket& packet);
   ServoResponse do_clear(const wire::Clear& clear);
   ServoResponse do_backup(const wire::ControlTableBackup& backup);
   sim::SimDuration write_time(std::size_t bytes) const;

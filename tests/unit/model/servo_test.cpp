@@ -35,7 +35,8 @@ ServoResponse run(Servo& servo, wire::Instruction instruction, bool broadcast = 
   const wire::InstructionPacket packet{servo.protocol().value_or(Protocol::V2),
                                        broadcast ? wire::kBroadcastId : servo.id(),
                                        std::move(instruction)};
-  return servo.execute(packet, broadcast);
+  return servo.execute(packet,
+                       broadcast ? model::Addressing::Broadcast : model::Addressing::Unicast);
 }
 
 /// Clear option 0x01 with its fixed bytes, or a reserved option (protocol2.md "Clear").
