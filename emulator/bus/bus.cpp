@@ -157,7 +157,7 @@ void Bus::rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, Sim
       s->watchdog.reset();
     }
     if (const auto period = s->servo->bus_watchdog_period()) {
-      s->watchdog = scheduler_.schedule_at(now + *period, [this, s] {
+      s->watchdog = scheduler_.schedule_at(now + *period, [s] {
         s->watchdog.reset();
         if (s->servo->bus_watchdog_period()) {
           s->servo->expire_bus_watchdog();

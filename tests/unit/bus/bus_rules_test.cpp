@@ -10,7 +10,6 @@
 using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
-using test::line;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
