@@ -1,4 +1,5 @@
 #include "golden_file.hpp"
+#include "text.hpp"
 
 #include <fstream>
 #include <set>
@@ -9,14 +10,6 @@
 
 namespace dxlemu::test {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) {
-    return "";
-  }
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
 
 void finish(std::vector<GoldenPacket>& out, std::optional<GoldenPacket>& current,
             const std::string& path) {

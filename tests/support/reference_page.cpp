@@ -1,4 +1,5 @@
 #include "reference_page.hpp"
+#include "text.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -7,14 +8,6 @@
 
 namespace dxlemu::test {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string::npos) {
-    return "";
-  }
-  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
-}
 
 // Markdown links become their text; <br>, &nbsp; and the like become spaces; runs of spaces fold.
 std::string clean(std::string cell) {

@@ -7,6 +7,9 @@
 #include "bus/line_timing.hpp"
 #include "bus/loopback_link.hpp"
 #include "shipped_model.hpp"
+#include "wire/describe.hpp"
+#include "wire/framer.hpp"
+#include "wire/instruction_decoder.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"
 
@@ -37,6 +40,22 @@ struct BusRig {
 /// The line time of `bytes` at the rig's baud rate.
 inline sim::SimDuration line(std::size_t bytes, std::uint32_t bps = BusRig::kBaud) {
   return bus::wire_time(bytes, bps);
+}
+
+/// The describe() text of the one status packet in `bytes` ("id=1 error=0x00 params=FC 03 2D").
+inline std::string status_text(const std::vector<std::uint8_t>& bytes,
+                               wire::Protocol protocol = wire::Protocol::V2) {
+  wire::Framer framer(protocol);
+  std::vector<wire::FramerEvent> events;
+  framer.feed(bytes, sim::SimTime{}, events);
+  if (events.size() != 1 || !std::holds_alternative<wire::Frame>(events[0])) {
+    return "not one status packet";
+  }
+  const auto status = wire::decode_status(std::get<wire::Frame>(events[0]));
+  if (!std::holds_alternative<wire::StatusPacket>(status)) {
+    return "not a status packet";
+  }
+  return wire::describe(std::get<wire::StatusPacket>(status));
 }
 
 }  // namespace dxlemu::test

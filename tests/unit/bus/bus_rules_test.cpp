@@ -3,9 +3,6 @@
 #include <catch2/catch.hpp>
 
 #include "bus_rig.hpp"
-#include "wire/describe.hpp"
-#include "wire/framer.hpp"
-#include "wire/instruction_decoder.hpp"
 
 using namespace dxlemu;
 using namespace std::chrono_literals;
@@ -16,15 +13,6 @@ using Bytes = std::vector<std::uint8_t>;
 namespace {
 
 constexpr std::uint8_t kBroadcast = 0xFE;
-
-std::string described(const Bytes& bytes, Protocol protocol = Protocol::V2) {
-  wire::Framer framer(protocol);
-  std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
-  REQUIRE(events.size() == 1);
-  const auto status = wire::decode_status(std::get<wire::Frame>(events[0]));
-  return wire::describe(std::get<wire::StatusPacket>(status));
-}
 
 }  // namespace
 
@@ -37,7 +25,7 @@ TEST_CASE("A Secondary ID group executes RAM writes silently and the ID keeps pr
   rig.send({Protocol::V2, 5, wire::Write{65, {1}}});  // LED on
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);  // only the servo with ID 5 answers
-  CHECK(described(rig.link.deliveries()[0].bytes) == "id=5 error=0x00");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes) == "id=5 error=0x00");
   for (const auto& s : rig.bus.servos()) {
     CHECK(s->table().get("led") == 1);
   }
@@ -80,12 +68,12 @@ TEST_CASE("The Bus Watchdog stops a quiet servo and refuses goal writes until it
   rig.link.clear();
   rig.send({Protocol::V2, 1, wire::Write{104, {150, 0, 0, 0}}});
   rig.run(10ms);
-  CHECK(described(rig.link.deliveries().at(0).bytes) == "id=1 error=0x04");
+  CHECK(test::status_text(rig.link.deliveries().at(0).bytes) == "id=1 error=0x04");
   rig.send({Protocol::V2, 1, wire::Write{98, {0}}});  // clears the error
   rig.run(10ms);
   rig.send({Protocol::V2, 1, wire::Write{104, {150, 0, 0, 0}}});
   rig.run(10ms);
-  CHECK(described(rig.link.deliveries().at(2).bytes) == "id=1 error=0x00");
+  CHECK(test::status_text(rig.link.deliveries().at(2).bytes) == "id=1 error=0x00");
   CHECK(servo.table().get("goal_velocity") == 150);
 }
 
@@ -184,7 +172,7 @@ TEST_CASE("Factory Reset answers with the old ID, then the servo is back at fact
   rig.send({Protocol::V2, 7, wire::FactoryReset{wire::factory_reset::kResetAll}});
   rig.run(10ms);
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes) == "id=7 error=0x00");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes) == "id=7 error=0x00");
   CHECK(servo.id() == 1);
   CHECK(servo.return_delay() == 500us);
   CHECK(rig.bus.booting(servo));

@@ -3,9 +3,6 @@
 #include <catch2/catch.hpp>
 
 #include "bus_rig.hpp"
-#include "wire/describe.hpp"
-#include "wire/framer.hpp"
-#include "wire/instruction_decoder.hpp"
 
 using namespace dxlemu;
 using namespace std::chrono_literals;
@@ -21,15 +18,6 @@ constexpr std::uint8_t kBroadcast = 0xFE;
 // XM430-W350 factory settings: processing 50 us, Return Delay Time 250 x 2 us.
 constexpr sim::SimDuration kXProcessing = 50us;
 constexpr sim::SimDuration kXReturnDelay = 500us;
-
-std::string described(const Bytes& bytes, Protocol protocol = Protocol::V2) {
-  wire::Framer framer(protocol);
-  std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
-  REQUIRE(events.size() == 1);
-  const auto status = wire::decode_status(std::get<wire::Frame>(events[0]));
-  return wire::describe(std::get<wire::StatusPacket>(status));
-}
 
 }  // namespace
 
@@ -52,7 +40,7 @@ TEST_CASE("A Ping is answered with the e-Manual's bytes when its last byte would
   REQUIRE(rig.link.deliveries().size() == 1);
   const auto& reply = rig.link.deliveries()[0];
   // protocol2.md Ping Example 1 with XM430-W350's model number (1020 = 0x03FC) and firmware 45.
-  CHECK(described(reply.bytes) == "id=1 error=0x00 params=FC 03 2D");
+  CHECK(test::status_text(reply.bytes) == "id=1 error=0x00 params=FC 03 2D");
   CHECK(reply.at ==
         sim::SimTime{} + line(sent) + kXProcessing + kXReturnDelay + line(reply.bytes.size()));
   CHECK(ns_since_start(reply.at) == 1'736'112 + 50'000 + 500'000 + 2'430'556);
@@ -70,7 +58,7 @@ TEST_CASE("Broadcast Ping of 5 servos: replies in ascending ID order, each after
   REQUIRE(d.size() == 5);
   sim::SimTime end = sim::SimTime{} + line(sent);
   for (std::size_t i = 0; i < d.size(); ++i) {
-    CHECK(described(d[i].bytes).rfind("id=" + std::to_string(i + 1) + " ", 0) == 0);
+    CHECK(test::status_text(d[i].bytes).rfind("id=" + std::to_string(i + 1) + " ", 0) == 0);
     end += kXProcessing + kXReturnDelay + line(d[i].bytes.size());
     CHECK(d[i].at == end);
   }
@@ -91,11 +79,11 @@ TEST_CASE("Read and Write of 1, 2 and 4 bytes and across items", "[bus]") {
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 5);
-  CHECK(described(d[0].bytes) == "id=1 error=0x00");
-  CHECK(described(d[1].bytes) == "id=1 error=0x00");
-  CHECK(described(d[2].bytes) == "id=1 error=0x00 params=00 02 00 00");
-  CHECK(described(d[3].bytes) == "id=1 error=0x00 params=FC 03");
-  CHECK(described(d[4].bytes) == "id=1 error=0x00 params=00 01");
+  CHECK(test::status_text(d[0].bytes) == "id=1 error=0x00");
+  CHECK(test::status_text(d[1].bytes) == "id=1 error=0x00");
+  CHECK(test::status_text(d[2].bytes) == "id=1 error=0x00 params=00 02 00 00");
+  CHECK(test::status_text(d[3].bytes) == "id=1 error=0x00 params=FC 03");
+  CHECK(test::status_text(d[4].bytes) == "id=1 error=0x00 params=00 01");
 }
 
 TEST_CASE("Errors come back as 2.0 error numbers and 1.0 error bits", "[bus]") {
@@ -113,10 +101,10 @@ TEST_CASE("Errors come back as 2.0 error numbers and 1.0 error bits", "[bus]") {
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 4);
-  CHECK(described(d[0].bytes) == "id=1 error=0x07");
-  CHECK(described(d[1].bytes) == "id=1 error=0x07");
-  CHECK(described(d[2].bytes) == "id=1 error=0x02");
-  CHECK(described(d[3].bytes, Protocol::V1) == "id=2 error=0x08");
+  CHECK(test::status_text(d[0].bytes) == "id=1 error=0x07");
+  CHECK(test::status_text(d[1].bytes) == "id=1 error=0x07");
+  CHECK(test::status_text(d[2].bytes) == "id=1 error=0x02");
+  CHECK(test::status_text(d[3].bytes, Protocol::V1) == "id=2 error=0x08");
 }
 
 TEST_CASE("Sync Read of 3 servos replies in list order with exact start times", "[bus][timing]") {
@@ -130,9 +118,9 @@ TEST_CASE("Sync Read of 3 servos replies in list order with exact start times", 
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 3);
-  CHECK(described(d[0].bytes) == "id=3 error=0x00 params=2C 01 00 00");
-  CHECK(described(d[1].bytes) == "id=1 error=0x00 params=64 00 00 00");
-  CHECK(described(d[2].bytes) == "id=2 error=0x00 params=C8 00 00 00");
+  CHECK(test::status_text(d[0].bytes) == "id=3 error=0x00 params=2C 01 00 00");
+  CHECK(test::status_text(d[1].bytes) == "id=1 error=0x00 params=64 00 00 00");
+  CHECK(test::status_text(d[2].bytes) == "id=2 error=0x00 params=C8 00 00 00");
   const sim::SimTime first = sim::SimTime{} + line(sent) + kXProcessing + 20us + line(15);
   CHECK(d[0].at == first);
   CHECK(d[1].at == first + kXProcessing + kXReturnDelay + line(15));
@@ -146,7 +134,7 @@ TEST_CASE("A listed ID that does not answer breaks the Sync Read chain after it"
   rig.send({Protocol::V2, kBroadcast, wire::SyncRead{132, 4, {1, 2, 3}}});
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes).rfind("id=1 ", 0) == 0);
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes).rfind("id=1 ", 0) == 0);
 }
 
 TEST_CASE("Fast Sync Read is one unstuffed packet from 0xFE with the delay charged once",
@@ -182,8 +170,8 @@ TEST_CASE("Protocol 1.0 Bulk Read replies are chained in list order", "[bus][tim
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 2);
-  CHECK(described(d[0].bytes, Protocol::V1) == "id=1 error=0x00 params=00 80");
-  CHECK(described(d[1].bytes, Protocol::V1).rfind("id=2 error=0x00 params=", 0) == 0);
+  CHECK(test::status_text(d[0].bytes, Protocol::V1) == "id=1 error=0x00 params=00 80");
+  CHECK(test::status_text(d[1].bytes, Protocol::V1).rfind("id=2 error=0x00 params=", 0) == 0);
   const auto bps = rig.bus.servos()[0]->baud_bps();
   const sim::SimTime first =
       sim::SimTime{} + line(sent, 57142) + kXProcessing + kXReturnDelay + line(8, bps);
@@ -220,7 +208,7 @@ TEST_CASE("A new ID and baud rate take effect after the status that confirms the
   CHECK(rig.bus.servos()[0]->id() == 1);
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes) == "id=1 error=0x00");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes) == "id=1 error=0x00");
   CHECK(rig.bus.servos()[0]->id() == 9);
   rig.send({Protocol::V2, 9, wire::Write{8, {3}}});  // 1 Mbps
   rig.run();
@@ -261,12 +249,13 @@ TEST_CASE("Protocol 1.0 and 2.0 servos share a bus and each hears only its proto
   rig.send({Protocol::V2, kBroadcast, wire::Ping{}});
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes).rfind("id=1 ", 0) == 0);
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes).rfind("id=1 ", 0) == 0);
   rig.link.clear();
   rig.send({Protocol::V1, 2, wire::Read{7, 1}});
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes, Protocol::V1) == "id=2 error=0x00 params=02");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes, Protocol::V1) ==
+        "id=2 error=0x00 params=02");
 }
 
 TEST_CASE("Two servos with the same ID both answer and the client gets a garbled packet", "[bus]") {
@@ -291,7 +280,7 @@ TEST_CASE("A packet with a bad CRC is answered with CRC Error by the servo of th
   rig.bus.receive(bytes, rig.scheduler.now(), BusRig::kBaud);
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes) == "id=1 error=0x03");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes) == "id=1 error=0x03");
   CHECK(rig.bus.stats().bad_checks == 1);
 }
 
@@ -302,7 +291,7 @@ TEST_CASE("An instruction sent while replies are due drops them and counts a col
   rig.send({Protocol::V2, 1, wire::Ping{}});  // the client did not wait
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(described(rig.link.deliveries()[0].bytes) == "id=1 error=0x00 params=FC 03 2D");
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes) == "id=1 error=0x00 params=FC 03 2D");
   CHECK(rig.bus.stats().collisions == 1);
   CHECK(rig.bus.servos()[0]->table().get("led") == 1);  // the first write still happened
 }

@@ -5,6 +5,7 @@
 #include "model/control_table.hpp"
 #include "model/dual_axis.hpp"
 #include "shipped_model.hpp"
+#include "table_access.hpp"
 
 using namespace dxlemu;
 using model::ControlTable;
@@ -18,17 +19,8 @@ std::shared_ptr<const model::ModelSpec> shipped(const std::string& name) {
   return test::shipped_model(name);
 }
 
-TableError write(ControlTable& t, std::uint16_t address, Bytes data, Protocol p) {
-  return t.bus_write(address, data, p).error;
-}
-
-Bytes le(std::int64_t v, std::size_t n) {
-  Bytes out;
-  for (std::size_t i = 0; i < n; ++i) {
-    out.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(v) >> (8 * i)));
-  }
-  return out;
-}
+using test::le;
+using test::write;
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "model/control_table.hpp"
+#include "table_access.hpp"
 #include "test_model.hpp"
 
 using namespace dxlemu;
@@ -13,20 +14,11 @@ using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
-TableError write(ControlTable& t, std::uint16_t address, Bytes data, Protocol p = Protocol::V2) {
-  return t.bus_write(address, data, p).error;
-}
-
-Bytes read(ControlTable& t, std::uint16_t address, std::uint16_t length) {
-  Bytes out;
-  REQUIRE(t.bus_read(address, length, out).ok());
-  return out;
-}
+using test::read;
+using test::write;
 
 Bytes le32(std::int64_t v) {
-  const auto u = static_cast<std::uint32_t>(v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8),
-          static_cast<std::uint8_t>(u >> 16), static_cast<std::uint8_t>(u >> 24)};
+  return test::le(v, 4);
 }
 
 }  // namespace

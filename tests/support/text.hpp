@@ -1,0 +1,16 @@
+#pragma once
+
+#include <string>
+
+namespace dxlemu::test {
+
+/// `s` without leading and trailing spaces, tabs and carriage returns.
+inline std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string::npos) {
+    return "";
+  }
+  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+}  // namespace dxlemu::test
