@@ -263,7 +263,7 @@ void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32
     if (r.reply) {
       replies.push_back({s, r, status_bytes(*s, r)});
     } else {
-      settle(*s, r, end);
+      settle(*s, r.reboot_after, end);
     }
   }
   // Protocol 2.0 chains broadcast Ping replies; Protocol 1.0 defines no order, so 1.0 servos
@@ -355,14 +355,12 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
   }
   const Station& first = *replies.front().station;
   const SimTime start = end + replies.front().response.processing + first.servo->return_delay();
-  std::vector<Station*> stations;
-  std::vector<bool> reboots;
+  std::vector<Settlement> settlements;
   for (const Reply& r : replies) {
-    stations.push_back(r.station);
-    reboots.push_back(false);
+    settlements.push_back({r.station, false});
   }
   const SimTime delivered = start + wire_time(bytes.size(), first.servo->baud_bps());
-  send_at(std::move(bytes), delivered, stations, reboots);
+  send_at(std::move(bytes), delivered, std::move(settlements));
 }
 
 void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
@@ -375,7 +373,7 @@ void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
                       const std::vector<std::uint8_t>& data) {
     for (Station* s : addressed(listening, id)) {
       s->servo->write_part(address, data);
-      settle(*s, {}, end);
+      settle(*s, false, end);
     }
   };
   std::vector<std::uint8_t> done;  // Bulk Write: one write per ID, the first listed
@@ -414,8 +412,7 @@ void Bus::answer(const std::vector<Reply>& replies, SimTime start_after, bool ch
     ++stats_.id_conflicts;
     std::vector<std::uint8_t> merged;
     SimTime last{};
-    std::vector<Station*> stations;
-    std::vector<bool> reboots;
+    std::vector<Settlement> settlements;
     for (const Reply& r : replies) {
       if (merged.size() < r.bytes.size()) {
         merged.resize(r.bytes.size(), 0xFF);
@@ -425,10 +422,9 @@ void Bus::answer(const std::vector<Reply>& replies, SimTime start_after, bool ch
       }
       const SimTime start = start_after + r.response.processing + r.station->servo->return_delay();
       last = std::max(last, start + wire_time(r.bytes.size(), r.station->servo->baud_bps()));
-      stations.push_back(r.station);
-      reboots.push_back(r.response.reboot_after);
+      settlements.push_back({r.station, r.response.reboot_after});
     }
-    send_at(std::move(merged), last, stations, reboots);
+    send_at(std::move(merged), last, std::move(settlements));
     return;
   }
   // A reply starts after the instruction (or the previous reply) ends, plus the servo's own
@@ -437,36 +433,32 @@ void Bus::answer(const std::vector<Reply>& replies, SimTime start_after, bool ch
   for (const Reply& r : replies) {
     const SimTime start = after + r.response.processing + r.station->servo->return_delay();
     const SimTime delivered = start + wire_time(r.bytes.size(), r.station->servo->baud_bps());
-    send_at(r.bytes, delivered, {r.station}, {r.response.reboot_after});
+    send_at(r.bytes, delivered, {{r.station, r.response.reboot_after}});
     after = delivered;
   }
 }
 
-void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::vector<Station*> stations,
-                  std::vector<bool> reboot_after) {
+void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at,
+                  std::vector<Settlement> settlements) {
   auto outgoing = std::make_shared<Outgoing>();
   outgoing_.push_back(outgoing);
-  scheduler_.schedule_at(at,
-                         [this, outgoing, bytes = std::move(bytes), stations = std::move(stations),
-                          reboot_after = std::move(reboot_after)] {
-                           std::erase(outgoing_, outgoing);
-                           if (!outgoing->cancelled) {
-                             ++stats_.replies;
-                             link_.deliver(bytes, scheduler_.now());
-                           }
-                           // ID, Baud Rate, Protocol Type and Return Delay Time change after the
-                           // status went out.
-                           for (std::size_t i = 0; i < stations.size(); ++i) {
-                             model::ServoResponse r;
-                             r.reboot_after = reboot_after[i];
-                             settle(*stations[i], r, scheduler_.now());
-                           }
-                         });
+  scheduler_.schedule_at(
+      at, [this, outgoing, bytes = std::move(bytes), settlements = std::move(settlements)] {
+        std::erase(outgoing_, outgoing);
+        if (!outgoing->cancelled) {
+          ++stats_.replies;
+          link_.deliver(bytes, scheduler_.now());
+        }
+        // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
+        for (const Settlement& s : settlements) {
+          settle(*s.station, s.reboot, scheduler_.now());
+        }
+      });
 }
 
-void Bus::settle(Station& station, const model::ServoResponse& response, SimTime at) {
+void Bus::settle(Station& station, bool reboot, SimTime at) {
   station.servo->commit_deferred();
-  if (response.reboot_after) {
+  if (reboot) {
     station.servo->reboot();
     station.booting_until = at + std::chrono::milliseconds(station.servo->spec().timing.boot_ms);
   }

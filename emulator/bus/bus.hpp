@@ -68,9 +68,14 @@ class Bus {
   void group_write(const wire::InstructionPacket& packet, sim::SimTime line_end,
                    std::uint32_t client_bps);
   void answer(const std::vector<Reply>& replies, sim::SimTime start_after, bool chained);
-  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, std::vector<Station*> stations,
-               std::vector<bool> reboot_after);
-  void settle(Station& station, const model::ServoResponse& response, sim::SimTime at);
+  /// A servo whose deferred effects apply when a reply goes out, and whether it then reboots.
+  struct Settlement {
+    Station* station;
+    bool reboot;
+  };
+  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at,
+               std::vector<Settlement> settlements);
+  void settle(Station& station, bool reboot, sim::SimTime at);
   std::vector<std::uint8_t> status_bytes(const Station& station,
                                          const model::ServoResponse& response) const;
 
