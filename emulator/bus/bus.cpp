@@ -356,6 +356,7 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
   const Station& first = *replies.front().station;
   const SimTime start = end + replies.front().response.processing + first.servo->return_delay();
   std::vector<Settlement> settlements;
+  settlements.reserve(replies.size());
   for (const Reply& r : replies) {
     settlements.push_back({r.station, false});
   }
