@@ -40,6 +40,33 @@ struct ReadSlot {
   std::uint16_t length;
 };
 
+// Packets sent at the same moment by servos that share an ID: the line idles high and a 0 bit
+// wins, so the client receives the bitwise AND of them (docs/bus.md "Collisions").
+std::vector<std::uint8_t> collide(const std::vector<std::vector<std::uint8_t>>& packets) {
+  std::vector<std::uint8_t> out;
+  for (const auto& p : packets) {
+    if (out.size() < p.size()) {
+      out.resize(p.size(), 0xFF);
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      out[i] &= p[i];
+    }
+  }
+  return out;
+}
+
+bool is_group_instruction(std::uint8_t code) {
+  using wire::InstructionCode;
+  for (const auto group :
+       {InstructionCode::SyncRead, InstructionCode::SyncWrite, InstructionCode::FastSyncRead,
+        InstructionCode::BulkRead, InstructionCode::BulkWrite, InstructionCode::FastBulkRead}) {
+    if (code == wire::to_byte(group)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 template <class T>
 constexpr bool kIsGroupRead =
     std::is_same_v<T, wire::SyncRead> || std::is_same_v<T, wire::FastSyncRead> ||
@@ -195,7 +222,9 @@ void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
   auto decoded = wire::decode_instruction(frame);
   if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
     ++stats_.decode_errors;
-    if (frame.id == wire::kBroadcastId) {
+    // Group instructions are only heard from 0xFE and never answered there; a malformed one is
+    // ignored like a well-formed one sent to a single ID.
+    if (frame.id == wire::kBroadcastId || is_group_instruction(frame.instruction)) {
       return;
     }
     std::vector<Reply> replies;
@@ -205,7 +234,7 @@ void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
         replies.push_back({s, r, status_bytes(*s, r)});
       }
     }
-    answer(replies, end, false);
+    answer({replies}, end);
     return;
   }
   const auto& packet = std::get<wire::InstructionPacket>(decoded);
@@ -237,7 +266,7 @@ void Bus::on_bad_check(const wire::FramingError& error, SimTime end, std::uint32
       replies.push_back({s, r, status_bytes(*s, r)});
     }
   }
-  answer(replies, end, false);
+  answer({replies}, end);
 }
 
 void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {
@@ -266,9 +295,20 @@ void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32
       settle(*s, r.reboot_after, end);
     }
   }
-  // Protocol 2.0 chains broadcast Ping replies; Protocol 1.0 defines no order, so 1.0 servos
-  // answer a broadcast Ping at once and collide when there are several (docs/bus.md).
-  answer(replies, end, broadcast && packet.protocol == wire::Protocol::V2);
+  // Protocol 2.0 chains broadcast Ping replies, one slot per ID (servos sharing an ID collide in
+  // theirs); Protocol 1.0 defines no order, so 1.0 servos answer a broadcast Ping at once and
+  // collide when there are several. A unicast instruction has one slot (docs/bus.md).
+  std::vector<Slot> slots;
+  for (Reply& r : replies) {
+    const bool new_slot =
+        slots.empty() || (broadcast && packet.protocol == wire::Protocol::V2 &&
+                          slots.back().front().station->servo->id() != r.station->servo->id());
+    if (new_slot) {
+      slots.emplace_back();
+    }
+    slots.back().push_back(std::move(r));
+  }
+  answer(slots, end);
 }
 
 void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::uint32_t client_bps) {
@@ -303,7 +343,7 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
       packet.instruction);
 
   const std::vector<Station*> listening = listeners(packet.protocol, client_bps, end);
-  std::vector<Reply> replies;
+  std::vector<Slot> answered;  // one per listed device that answers, in list order
   for (const ReadSlot& slot : slots) {
     std::vector<Station*> matches = addressed(listening, slot.id);
     std::erase_if(matches, [&](const Station* s) {
@@ -315,52 +355,61 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
     if (matches.empty()) {
       break;
     }
-    if (matches.size() > 1) {
-      ++stats_.id_conflicts;  // two devices claim the slot; the first one added answers
+    Slot& out = answered.emplace_back();
+    for (Station* s : matches) {  // servos sharing the ID all answer, and collide
+      model::ServoResponse r = s->servo->read_part(slot.address, slot.length);
+      if (fast) {
+        r.params.resize(slot.length, 0);  // a failed read still fills its block (docs/bus.md)
+      }
+      std::vector<std::uint8_t> bytes = fast ? std::vector<std::uint8_t>{} : status_bytes(*s, r);
+      out.push_back({s, std::move(r), std::move(bytes)});
     }
-    Station* s = matches.front();
-    model::ServoResponse r = s->servo->read_part(slot.address, slot.length);
-    if (fast) {
-      r.params.resize(slot.length, 0);  // a failed read still fills its block (docs/bus.md)
-    }
-    replies.push_back({s, std::move(r), {}});
   }
-  if (replies.empty()) {
+  if (answered.empty()) {
     return;
   }
   if (!fast) {
-    for (Reply& r : replies) {
-      r.bytes = status_bytes(*r.station, r.response);
-    }
-    answer(replies, end, true);
+    answer(answered, end);
     return;
   }
   // Fast Sync/Bulk Read: one packet from ID 0xFE, charged one processing time and one Return
   // Delay Time (the first device's). If the chain broke, LENGTH still announces every listed
-  // device and the packet stops after the last block sent: the client sees it cut short.
-  wire::FastReply reply;
-  for (std::size_t i = 0; i < slots.size(); ++i) {
-    const bool present = i < replies.size();
-    reply.blocks.push_back(
-        {present ? replies[i].response.error : std::uint8_t{0}, slots[i].id,
-         present ? replies[i].response.params : std::vector<std::uint8_t>(slots[i].length, 0)});
+  // device and the packet stops after the last block sent: the client sees it cut short. Where
+  // servos share an ID, each sends its own version of the packet at once: they collide.
+  std::size_t versions = 0;
+  for (const Slot& slot : answered) {
+    versions = std::max(versions, slot.size());
+    stats_.id_conflicts += slot.size() > 1 ? 1 : 0;
   }
-  std::vector<std::uint8_t> bytes = wire::encode_fast_reply(reply);
-  if (replies.size() < slots.size()) {
+  std::vector<std::vector<std::uint8_t>> packets;
+  for (std::size_t v = 0; v < versions; ++v) {
+    wire::FastReply reply;
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      if (i < answered.size()) {
+        const Reply& r = answered[i][std::min(v, answered[i].size() - 1)];
+        reply.blocks.push_back({r.response.error, slots[i].id, r.response.params});
+      } else {
+        reply.blocks.push_back({0, slots[i].id, std::vector<std::uint8_t>(slots[i].length, 0)});
+      }
+    }
+    std::vector<std::uint8_t> bytes = wire::encode_fast_reply(reply);
     std::size_t sent = 8;  // header, ID, LENGTH, 0x55
-    for (std::size_t i = 0; i < replies.size(); ++i) {
+    for (std::size_t i = 0; i < answered.size(); ++i) {
       sent += 4 + slots[i].length;
     }
     bytes.resize(sent);
+    packets.push_back(std::move(bytes));
   }
-  const Station& first = *replies.front().station;
-  const SimTime start = end + replies.front().response.processing + first.servo->return_delay();
+  const Reply& first = answered.front().front();
+  const SimTime start = end + first.response.processing + first.station->servo->return_delay();
   std::vector<Settlement> settlements;
-  settlements.reserve(replies.size());
-  for (const Reply& r : replies) {
-    settlements.push_back({r.station, false});
+  for (const Slot& slot : answered) {
+    for (const Reply& r : slot) {
+      settlements.push_back({r.station, false});
+    }
   }
-  const SimTime delivered = start + wire_time(bytes.size(), first.servo->baud_bps());
+  std::vector<std::uint8_t> bytes = collide(packets);
+  const SimTime delivered = start + wire_time(bytes.size(), first.station->servo->baud_bps());
   send_at(std::move(bytes), delivered, std::move(settlements));
 }
 
@@ -403,39 +452,29 @@ std::vector<std::uint8_t> Bus::status_bytes(const Station& station,
   return wire::encode_status({protocol, station.servo->id(), response.error, response.params});
 }
 
-void Bus::answer(const std::vector<Reply>& replies, SimTime start_after, bool chained) {
-  if (replies.empty()) {
-    return;
-  }
-  if (!chained && replies.size() > 1) {
-    // Two servos with one ID answer at once and their bytes collide. The line idles high and a
-    // 0 bit wins, so the client receives the bitwise AND of both packets (docs/bus.md).
-    ++stats_.id_conflicts;
-    std::vector<std::uint8_t> merged;
-    SimTime last{};
-    std::vector<Settlement> settlements;
-    for (const Reply& r : replies) {
-      if (merged.size() < r.bytes.size()) {
-        merged.resize(r.bytes.size(), 0xFF);
-      }
-      for (std::size_t i = 0; i < r.bytes.size(); ++i) {
-        merged[i] &= r.bytes[i];
-      }
-      const SimTime start = start_after + r.response.processing + r.station->servo->return_delay();
-      last = std::max(last, start + wire_time(r.bytes.size(), r.station->servo->baud_bps()));
-      settlements.push_back({r.station, r.response.reboot_after});
-    }
-    send_at(std::move(merged), last, std::move(settlements));
-    return;
-  }
-  // A reply starts after the instruction (or the previous reply) ends, plus the servo's own
+void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
+  // A reply starts after the instruction (or the previous slot) ends, plus the servo's own
   // processing time and Return Delay Time, and reaches the client when its last byte would.
   SimTime after = start_after;
-  for (const Reply& r : replies) {
-    const SimTime start = after + r.response.processing + r.station->servo->return_delay();
-    const SimTime delivered = start + wire_time(r.bytes.size(), r.station->servo->baud_bps());
-    send_at(r.bytes, delivered, {{r.station, r.response.reboot_after}});
-    after = delivered;
+  for (const Slot& slot : slots) {
+    if (slot.empty()) {
+      continue;
+    }
+    SimTime slot_end = after;
+    std::vector<std::vector<std::uint8_t>> packets;
+    std::vector<Settlement> settlements;
+    for (const Reply& r : slot) {
+      const SimTime start = after + r.response.processing + r.station->servo->return_delay();
+      slot_end =
+          std::max(slot_end, start + wire_time(r.bytes.size(), r.station->servo->baud_bps()));
+      packets.push_back(r.bytes);
+      settlements.push_back({r.station, r.response.reboot_after});
+    }
+    if (slot.size() > 1) {
+      ++stats_.id_conflicts;
+    }
+    send_at(collide(packets), slot_end, std::move(settlements));
+    after = slot_end;
   }
 }
 

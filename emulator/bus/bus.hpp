@@ -67,7 +67,10 @@ class Bus {
                   std::uint32_t client_bps);
   void group_write(const wire::InstructionPacket& packet, sim::SimTime line_end,
                    std::uint32_t client_bps);
-  void answer(const std::vector<Reply>& replies, sim::SimTime start_after, bool chained);
+  /// The replies that go out in one time slot: normally one; several when servos share an ID,
+  /// and then their bytes collide.
+  using Slot = std::vector<Reply>;
+  void answer(const std::vector<Slot>& slots, sim::SimTime start_after);
   /// A servo whose deferred effects apply when a reply goes out, and whether it then reboots.
   struct Settlement {
     Station* station;

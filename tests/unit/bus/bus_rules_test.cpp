@@ -196,3 +196,14 @@ TEST_CASE("Protocol 1.0 Sync Write is applied to every listed servo", "[bus]") {
   CHECK(rig.bus.servos()[1]->table().get("goal_position") == 0x220);
   CHECK(rig.bus.servos()[1]->table().get("moving_speed") == 0x360);
 }
+
+TEST_CASE("A malformed Sync Read sent to a single ID is ignored like a well-formed one", "[bus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  // address 132, length 4, and no ID list: broken layout, sent to ID 1.
+  const auto bytes = wire::encode_packet(Protocol::V2, 1, 0x82, Bytes{0x84, 0x00, 0x04, 0x00});
+  rig.bus.receive(bytes, rig.scheduler.now(), BusRig::kBaud);
+  rig.run();
+  CHECK(rig.link.deliveries().empty());
+  CHECK(rig.bus.stats().decode_errors == 1);
+}
