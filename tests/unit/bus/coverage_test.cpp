@@ -4,9 +4,9 @@
 // deferred Return Delay Time, Baud Rate and Protocol Type, failing and duplicate slots of the group
 // instructions, unicast group instructions, malformed packets, packets written in pieces, stuffing,
 // damaged broadcasts, the 1.0 inter-byte timeout and same-ID collisions in broadcast Ping and
-// group reads. The index of every rule and its test is docs/protocol-coverage.md. Expected bytes were computed
-// independently of the encoder (CRC-16/0x8005 and the 1.0 checksum by hand), or copied from the
-// e-Manual where it prints them.
+// group reads. The index of every rule and its test is docs/protocol-coverage.md. Expected bytes
+// were computed independently of the encoder (CRC-16/0x8005 and the 1.0 checksum by hand), or
+// copied from the e-Manual where it prints them.
 #include <catch2/catch.hpp>
 
 #include <array>
