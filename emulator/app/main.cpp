@@ -1,9 +1,10 @@
-// dxlemu: a DYNAMIXEL servo-bus emulator. The daemon (`dxlemu run`) comes with issue 5; today the
-// program lists its model library and reports its version.
+// dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves a bus of virtual servos on a
+// pseudo-terminal; `dxlemu models` lists the model library.
 #include <CLI/CLI.hpp>
 #include <iomanip>
 #include <iostream>
 
+#include "app/emulator.hpp"
 #include "app/model_library.hpp"
 #include "dxlemu/version.hpp"
 #include "model/model_error.hpp"
@@ -12,6 +13,48 @@ namespace {
 
 // Exit status for refused input (bad model file, bad config), as documented in README.md.
 constexpr int kExitBadInput = 2;
+
+// The default bus (README): three XM430-W350 at factory settings, IDs 1 to 3, on dxl0.
+constexpr const char* kDefaultServos = "xm430-w350:1-3";
+constexpr const char* kDefaultLink = "/tmp/dxlemu-dxl0";
+constexpr int kMaxServoId = 252;
+
+// "NAME:ID" or "NAME:FIRST-LAST" (model names may contain ':'-free punctuation such as '+').
+std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0) {
+    throw std::invalid_argument("--servo " + text + ": expected NAME:ID or NAME:FIRST-LAST");
+  }
+  const std::string name = text.substr(0, colon);
+  const std::string ids = text.substr(colon + 1);
+  const auto dash = ids.find('-');
+  int first = 0;
+  int last = 0;
+  try {
+    std::size_t used = 0;
+    first = std::stoi(ids.substr(0, dash), &used);
+    if (used != ids.substr(0, dash).size()) {
+      throw std::invalid_argument("");
+    }
+    last = first;
+    if (dash != std::string::npos) {
+      last = std::stoi(ids.substr(dash + 1), &used);
+      if (used != ids.substr(dash + 1).size()) {
+        throw std::invalid_argument("");
+      }
+    }
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--servo " + text + ": the ID part must be a number or FIRST-LAST");
+  }
+  if (first < 0 || last > kMaxServoId || first > last) {
+    throw std::invalid_argument("--servo " + text + ": IDs must lie in 0 ~ 252, first <= last");
+  }
+  std::vector<dxlemu::app::ServoConfig> out;
+  for (int id = first; id <= last; ++id) {
+    out.push_back({name, static_cast<std::uint8_t>(id)});
+  }
+  return out;
+}
 
 std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
   std::string out;
@@ -37,7 +80,44 @@ int main(int argc, char** argv) {
                    "shipped model of the same name")
       ->check(CLI::ExistingDirectory);
 
+  std::vector<std::string> servo_options;
+  std::string link = kDefaultLink;
+  auto* run = app.add_subcommand("run", "Serve a bus of virtual servos on a pseudo-terminal");
+  run->add_option("--servo", servo_options,
+                  "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); default " +
+                      std::string(kDefaultServos));
+  run->add_option("--link", link, "Stable symlink to the port's PTY, removed on exit")
+      ->capture_default_str();
+  run->add_option("--models", model_dirs, "Also load every *.json model file of DIR (repeatable)")
+      ->check(CLI::ExistingDirectory);
+
   CLI11_PARSE(app, argc, argv);
+
+  if (run->parsed()) {
+    try {
+      const auto library = dxlemu::app::ModelLibrary::load(
+          dxlemu::app::shipped_models_dir(),
+          std::vector<std::filesystem::path>(model_dirs.begin(), model_dirs.end()));
+      dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(link), {}};
+      if (servo_options.empty()) {
+        servo_options.emplace_back(kDefaultServos);
+      }
+      for (const std::string& option : servo_options) {
+        for (auto& servo : parse_servo_option(option)) {
+          port.servos.push_back(std::move(servo));
+        }
+      }
+      dxlemu::app::Emulator emulator(library, {port});
+      emulator.run(std::cout);
+    } catch (const dxlemu::model::ModelError& e) {
+      std::cerr << "dxlemu: " << e.what() << "\n";
+      return kExitBadInput;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "dxlemu: " << e.what() << "\n";
+      return kExitBadInput;
+    }
+    return 0;
+  }
 
   if (models->parsed()) {
     try {
@@ -57,7 +137,7 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  std::cout << "dxlemu " << dxlemu::kVersion
-            << ": the emulator daemon is not built yet; `dxlemu models` lists the model library.\n";
+  // No subcommand: say what there is.
+  std::cout << app.help();
   return 0;
 }

@@ -1,0 +1,122 @@
+#include "io/pty_link.hpp"
+
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
+#include <cerrno>
+#include <cstdlib>
+#include <system_error>
+
+#include "io/tty_baud.hpp"
+
+namespace dxlemu::io {
+namespace {
+
+constexpr std::size_t kReadChunk = 4096;
+
+[[noreturn]] void fail(const std::string& what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
+
+// Raw mode: no echo, no line discipline, no newline translation; the client may change any of
+// it, which the emulator accepts.
+void make_raw(int fd) {
+  termios t{};
+  if (tcgetattr(fd, &t) != 0) {
+    fail("tcgetattr on the PTY");
+  }
+  cfmakeraw(&t);
+  cfsetispeed(&t, B57600);  // the factory rate of most models, until the client sets its own
+  cfsetospeed(&t, B57600);
+  if (tcsetattr(fd, TCSANOW, &t) != 0) {
+    fail("tcsetattr on the PTY");
+  }
+}
+
+int open_master() {
+  const int fd = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0 || grantpt(fd) != 0 || unlockpt(fd) != 0) {
+    fail("opening a pseudo-terminal");
+  }
+  return fd;
+}
+
+}  // namespace
+
+PtyLink::PtyLink(boost::asio::io_context& io, std::optional<std::filesystem::path> link)
+    : master_(io, open_master()), link_(std::move(link)), read_buffer_(kReadChunk) {
+  const char* name = ptsname(master_.native_handle());
+  if (name == nullptr) {
+    fail("ptsname");
+  }
+  slave_path_ = name;
+  slave_fd_ = ::open(slave_path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  if (slave_fd_ < 0) {
+    fail("opening " + slave_path_);
+  }
+  make_raw(slave_fd_);
+  if (link_) {
+    // Atomic: a temporary symlink renamed over the target, so the path never dangles half-made.
+    const std::filesystem::path temp = link_->string() + ".dxlemu-tmp";
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    std::filesystem::create_symlink(slave_path_, temp);
+    std::filesystem::rename(temp, *link_);
+  }
+}
+
+PtyLink::~PtyLink() {
+  if (link_) {
+    std::error_code ignored;
+    // Only our own symlink: if someone replaced it meanwhile, leave theirs alone.
+    if (std::filesystem::is_symlink(*link_, ignored) &&
+        std::filesystem::read_symlink(*link_, ignored) == slave_path_) {
+      std::filesystem::remove(*link_, ignored);
+    }
+  }
+  if (slave_fd_ >= 0) {
+    ::close(slave_fd_);
+  }
+}
+
+void PtyLink::start(OnBytes on_bytes) {
+  on_bytes_ = std::move(on_bytes);
+  read_more();
+}
+
+void PtyLink::read_more() {
+  master_.async_read_some(boost::asio::buffer(read_buffer_),
+                          [this](const boost::system::error_code& ec, std::size_t n) {
+                            if (ec) {
+                              return;  // cancelled at shutdown
+                            }
+                            on_bytes_(std::span(read_buffer_.data(), n), tty_baud(slave_fd_));
+                            read_more();
+                          });
+}
+
+void PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {
+  write_queue_.emplace_back(bytes.begin(), bytes.end());
+  if (write_queue_.size() == 1) {
+    write_next();
+  }
+}
+
+void PtyLink::write_next() {
+  boost::asio::async_write(master_, boost::asio::buffer(write_queue_.front()),
+                           [this](const boost::system::error_code& ec, std::size_t) {
+                             if (ec) {
+                               write_queue_.clear();
+                               return;
+                             }
+                             write_queue_.pop_front();
+                             if (!write_queue_.empty()) {
+                               write_next();
+                             }
+                           });
+}
+
+}  // namespace dxlemu::io

@@ -1,0 +1,19 @@
+// TCGETS2 lives in <asm/termbits.h>, which clashes with glibc's <termios.h>; this file includes
+// only the kernel header so that the rest of io/ can use <termios.h>.
+#include "io/tty_baud.hpp"
+
+#include <asm/termbits.h>
+#include <sys/ioctl.h>
+
+namespace dxlemu::io {
+
+std::uint32_t tty_baud(int fd) {
+  struct termios2 t {};
+  if (ioctl(fd, TCGETS2, &t) != 0) {
+    return 0;
+  }
+  // The client sets the speed it transmits at; a PTY carries it without effect on timing.
+  return t.c_ospeed;
+}
+
+}  // namespace dxlemu::io
