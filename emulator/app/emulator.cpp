@@ -52,13 +52,12 @@ void Emulator::run(std::ostream& out) {
     for (const ServoConfig& s : port->config.servos) {
       servos.push_back({{"id", s.id}, {"model", s.model}});
     }
-    nlohmann::ordered_json ready = {{"event", "ready"},
-                                    {"port", port->config.name},
-                                    {"pty", port->pty->slave_path()},
-                                    {"servos", servos}};
+    nlohmann::ordered_json ready = {
+        {"event", "ready"}, {"port", port->config.name}, {"pty", port->pty->slave_path()}};
     if (port->config.link) {
       ready["link"] = port->config.link->string();
     }
+    ready["servos"] = servos;
     out << ready.dump() << std::endl;  // flushed: scripts wait for this line
   }
   io_.run();
