@@ -25,7 +25,21 @@ Emulator::Emulator(const ModelLibrary& library, const std::vector<PortConfig>& p
         throw std::invalid_argument("unknown model \"" + servo.model +
                                     "\" (dxlemu models lists them)");
       }
-      port->bus->add_servo(std::make_unique<model::Servo>(spec, servo.id));
+      model::Servo& added = port->bus->add_servo(std::make_unique<model::Servo>(spec, servo.id));
+      for (const auto& [key, value] : servo.items) {
+        const model::ItemSpec* item = spec->find(key);
+        const std::string who = "servo " + std::to_string(servo.id) + " (" + servo.model + "): ";
+        if (item == nullptr) {
+          throw std::invalid_argument(who + "no item \"" + key + "\"");
+        }
+        if (!item->in_range(value)) {
+          throw std::invalid_argument(who + key + " " + std::to_string(value) +
+                                      " is outside its range " + std::to_string(item->min) + " ~ " +
+                                      std::to_string(item->max));
+        }
+        added.table().set(key, value);
+      }
+      added.commit_deferred();
     }
     ports_.push_back(std::move(port));
   }

@@ -16,10 +16,12 @@
 
 namespace dxlemu::app {
 
-/// One servo of a port: a model from the library and its ID.
+/// One servo of a port: a model from the library, its ID, and items to set at power-on (by key,
+/// e.g. baud_rate, return_delay_time, protocol_type), as if written before the emulator started.
 struct ServoConfig {
   std::string model;
   std::uint8_t id = 1;
+  std::vector<std::pair<std::string, std::int64_t>> items;
 };
 
 /// One port: a PTY with an optional stable symlink, and its servos.
@@ -33,8 +35,8 @@ struct PortConfig {
 /// PTY and a Bus per port. Construction opens everything or throws; nothing runs half-configured.
 class Emulator {
  public:
-  /// Builds every port. Throws std::invalid_argument naming an unknown model, std::system_error
-  /// when a PTY or link cannot be made.
+  /// Builds every port. Throws std::invalid_argument naming an unknown model, an unknown item or
+  /// a value outside its range, std::system_error when a PTY or link cannot be made.
   Emulator(const ModelLibrary& library, const std::vector<PortConfig>& ports);
   ~Emulator();
   Emulator(const Emulator&) = delete;

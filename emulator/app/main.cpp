@@ -51,9 +51,39 @@ std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text
   }
   std::vector<dxlemu::app::ServoConfig> out;
   for (int id = first; id <= last; ++id) {
-    out.push_back({name, static_cast<std::uint8_t>(id)});
+    out.push_back({name, static_cast<std::uint8_t>(id), {}});
   }
   return out;
+}
+
+// --baud BPS: the Baud Rate item value that selects BPS on `spec`, or an error naming what the
+// model offers.
+std::int64_t baud_index(const dxlemu::model::ModelSpec& spec, std::uint32_t bps) {
+  std::string offered;
+  for (const auto& b : spec.baud_rates) {
+    if (b.bps == bps) {
+      return b.index;
+    }
+    offered += (offered.empty() ? "" : ", ") + std::to_string(b.bps);
+  }
+  throw std::invalid_argument("--baud " + std::to_string(bps) + ": " + spec.name +
+                              " cannot do it (it offers " + offered + ")");
+}
+
+// --protocol N: the Protocol Type item (Protocol Version on MX-64/106(2.0)); models without it
+// must already speak N.
+std::optional<std::pair<std::string, std::int64_t>> protocol_item(
+    const dxlemu::model::ModelSpec& spec, int protocol) {
+  for (const char* key : {"protocol_type", "protocol_version"}) {
+    if (spec.find(key) != nullptr) {
+      return std::pair<std::string, std::int64_t>{key, protocol};
+    }
+  }
+  if (static_cast<int>(spec.protocols.front()) != protocol) {
+    throw std::invalid_argument("--protocol " + std::to_string(protocol) + ": " + spec.name +
+                                " cannot speak it");
+  }
+  return std::nullopt;
 }
 
 std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
@@ -90,6 +120,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run->add_option("--models", model_dirs, "Also load every *.json model file of DIR (repeatable)")
       ->check(CLI::ExistingDirectory);
+  std::optional<std::uint32_t> baud;
+  std::optional<int> protocol;
+  run->add_option("--baud", baud,
+                  "Set every servo's Baud Rate to BPS (an error if a model cannot do it); "
+                  "default: each model's factory rate");
+  run->add_option("--protocol", protocol,
+                  "Set Protocol Type to 1 or 2 on the models that have it; default: factory")
+      ->check(CLI::IsMember({1, 2}));
 
   CLI11_PARSE(app, argc, argv);
 
@@ -104,6 +142,15 @@ int main(int argc, char** argv) {
       }
       for (const std::string& option : servo_options) {
         for (auto& servo : parse_servo_option(option)) {
+          const auto spec = library.find(servo.model);
+          if (spec && baud) {
+            servo.items.emplace_back("baud_rate", baud_index(*spec, *baud));
+          }
+          if (spec && protocol) {
+            if (auto item = protocol_item(*spec, *protocol)) {
+              servo.items.push_back(std::move(*item));
+            }
+          }
           port.servos.push_back(std::move(servo));
         }
       }

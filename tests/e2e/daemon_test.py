@@ -115,6 +115,24 @@ class DaemonTest(unittest.TestCase):
             self.assertEqual(port.status2()[0], 1)
             port.close()
 
+    def test_baud_option_moves_every_servo_to_that_rate(self):
+        self.start("--baud", "1000000")
+        port = Port(self.link, 1000000)
+        port.write(packet2(2, PING))
+        self.assertEqual(port.status2(), (2, 0, XM430_W350_PING))
+        port.write(packet2(2, READ, bytes([8, 0, 1, 0])))  # Baud Rate item: index 3 is 1 Mbps
+        self.assertEqual(port.status2(), (2, 0, b"\x03"))
+        port.close()
+
+    def test_protocol_option_switches_x_servos_to_protocol_1(self):
+        self.start("--protocol", "1")
+        port = Port(self.link)
+        port.write(packet1(1, PING))
+        self.assertEqual(port.status1(), (1, 0, b""))
+        port.write(packet2(1, PING))
+        self.assertIsNone(port.status2(timeout=0.2))
+        port.close()
+
     def test_sigterm_stops_cleanly_and_removes_the_link(self):
         daemon = Daemon("--link", self.link)
         self.assertTrue(os.path.islink(self.link))
@@ -125,7 +143,11 @@ class DaemonTest(unittest.TestCase):
         binary = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
         for args, message in [(["--servo", "xm999:1"], 'unknown model "xm999"'),
                               (["--servo", "xm430-w350:x"], "the ID part must be a number"),
-                              (["--servo", "xm430-w350:5-2"], "IDs must lie in 0 ~ 252")]:
+                              (["--servo", "xm430-w350:5-2"], "IDs must lie in 0 ~ 252"),
+                              (["--servo", "ax-12a:1", "--baud", "4500000"],
+                               "ax-12a cannot do it (it offers 1000000"),
+                              (["--servo", "xl-320:1", "--protocol", "1"],
+                               "xl-320 cannot speak it")]:
             result = subprocess.run([binary, "run", "--link", self.link, *args],
                                     capture_output=True, text=True, timeout=10)
             self.assertEqual(result.returncode, 2, args)
