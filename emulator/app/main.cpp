@@ -1,6 +1,7 @@
 // dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves a bus of virtual servos on a
 // pseudo-terminal; `dxlemu models` lists the model library.
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 
@@ -86,6 +87,30 @@ std::optional<std::pair<std::string, std::int64_t>> protocol_item(
   return std::nullopt;
 }
 
+dxlemu::app::ModelLibrary load_library(const std::vector<std::string>& dirs) {
+  return dxlemu::app::ModelLibrary::load(
+      dxlemu::app::shipped_models_dir(),
+      std::vector<std::filesystem::path>(dirs.begin(), dirs.end()));
+}
+
+// Runs a subcommand and turns its failures into the documented exit statuses: 2 for refused
+// input (bad option, model or config), 1 for anything else (e.g. no pseudo-terminal available).
+int run_command(const std::function<void()>& body) {
+  try {
+    body();
+    return 0;
+  } catch (const dxlemu::model::ModelError& e) {
+    std::cerr << "dxlemu: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "dxlemu: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "dxlemu: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
   std::string out;
   for (const auto p : spec.protocols) {
@@ -132,10 +157,8 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (run->parsed()) {
-    try {
-      const auto library = dxlemu::app::ModelLibrary::load(
-          dxlemu::app::shipped_models_dir(),
-          std::vector<std::filesystem::path>(model_dirs.begin(), model_dirs.end()));
+    return run_command([&] {
+      const auto library = load_library(model_dirs);
       dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(link), {}};
       if (servo_options.empty()) {
         servo_options.emplace_back(kDefaultServos);
@@ -156,21 +179,11 @@ int main(int argc, char** argv) {
       }
       dxlemu::app::Emulator emulator(library, {port});
       emulator.run(std::cout);
-    } catch (const dxlemu::model::ModelError& e) {
-      std::cerr << "dxlemu: " << e.what() << "\n";
-      return kExitBadInput;
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "dxlemu: " << e.what() << "\n";
-      return kExitBadInput;
-    }
-    return 0;
+    });
   }
-
   if (models->parsed()) {
-    try {
-      const auto library = dxlemu::app::ModelLibrary::load(
-          dxlemu::app::shipped_models_dir(),
-          std::vector<std::filesystem::path>(model_dirs.begin(), model_dirs.end()));
+    return run_command([&] {
+      const auto library = load_library(model_dirs);
       std::cout << std::left << std::setw(18) << "NAME" << std::setw(8) << "NUMBER" << std::setw(10)
                 << "PROTOCOLS"
                 << "FAMILY\n";
@@ -178,11 +191,7 @@ int main(int argc, char** argv) {
         std::cout << std::setw(18) << name << std::setw(8) << spec->model_number << std::setw(10)
                   << protocols_text(*spec) << dxlemu::model::family_name(spec->family) << "\n";
       }
-    } catch (const dxlemu::model::ModelError& e) {
-      std::cerr << "dxlemu: " << e.what() << "\n";
-      return kExitBadInput;
-    }
-    return 0;
+    });
   }
   // No subcommand: say what there is.
   std::cout << app.help();
