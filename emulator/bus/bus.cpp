@@ -26,13 +26,6 @@ struct Bus::Outgoing {
 
 namespace {
 
-// "For an instruction whose bytes arrived at t: line_end = t + wire(instruction)" (DESIGN.md).
-// A packet written in pieces cannot end before its last piece arrived plus one byte time.
-SimTime line_end(const wire::Frame& frame, std::uint32_t bps) {
-  return std::max(frame.first_byte_at + wire_time(frame.raw.size(), bps),
-                  frame.last_byte_at + wire_time(1, bps));
-}
-
 // One device's part of a Sync/Bulk Read, in request order.
 struct ReadSlot {
   std::uint8_t id;
@@ -81,6 +74,24 @@ constexpr bool kIsGroupWrite =
 Bus::Bus(sim::Scheduler& scheduler, ByteLink& link) : scheduler_(scheduler), link_(link) {}
 
 Bus::~Bus() = default;
+
+SimDuration Bus::line_time(std::size_t bytes, std::uint32_t bps) const {
+  return timing_ == ReplyTiming::Modelled ? wire_time(bytes, bps) : SimDuration{0};
+}
+
+// "For an instruction whose bytes arrived at t: line_end = t + wire(instruction)" (DESIGN.md).
+// A packet written in pieces cannot end before its last piece arrived plus one byte time.
+SimTime Bus::line_end(const wire::Frame& frame, std::uint32_t bps) const {
+  return std::max(frame.first_byte_at + line_time(frame.raw.size(), bps),
+                  frame.last_byte_at + line_time(1, bps));
+}
+
+SimDuration Bus::turnaround(const Reply& reply) const {
+  if (timing_ == ReplyTiming::Immediate) {
+    return SimDuration{0};
+  }
+  return reply.response.processing + reply.station->servo->return_delay();
+}
 
 model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
   servos_.push_back(std::move(servo));
@@ -163,7 +174,7 @@ void Bus::handle(const std::vector<wire::FramerEvent>& events, std::uint32_t cli
         break;
       case wire::FramingErrorKind::BadCheck:
         ++stats_.bad_checks;
-        on_bad_check(error, error.at + wire_time(error.bytes, client_bps), client_bps);
+        on_bad_check(error, error.at + line_time(error.bytes, client_bps), client_bps);
         break;
       case wire::FramingErrorKind::ImpossibleLength:
         ++stats_.impossible_lengths;
@@ -401,7 +412,7 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
     packets.push_back(std::move(bytes));
   }
   const Reply& first = answered.front().front();
-  const SimTime start = end + first.response.processing + first.station->servo->return_delay();
+  const SimTime start = end + turnaround(first);
   std::vector<Settlement> settlements;
   for (const Slot& slot : answered) {
     for (const Reply& r : slot) {
@@ -409,7 +420,7 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
     }
   }
   std::vector<std::uint8_t> bytes = collide(packets);
-  const SimTime delivered = start + wire_time(bytes.size(), first.station->servo->baud_bps());
+  const SimTime delivered = start + line_time(bytes.size(), first.station->servo->baud_bps());
   send_at(std::move(bytes), delivered, std::move(settlements));
 }
 
@@ -464,9 +475,9 @@ void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
     std::vector<std::vector<std::uint8_t>> packets;
     std::vector<Settlement> settlements;
     for (const Reply& r : slot) {
-      const SimTime start = after + r.response.processing + r.station->servo->return_delay();
+      const SimTime start = after + turnaround(r);
       slot_end =
-          std::max(slot_end, start + wire_time(r.bytes.size(), r.station->servo->baud_bps()));
+          std::max(slot_end, start + line_time(r.bytes.size(), r.station->servo->baud_bps()));
       packets.push_back(r.bytes);
       settlements.push_back({r.station, r.response.reboot_after});
     }

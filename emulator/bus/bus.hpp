@@ -15,6 +15,15 @@
 
 namespace dxlemu::bus {
 
+/// How a bus times its replies (docs/bus.md "Reply timing").
+enum class ReplyTiming {
+  /// As real servos: instruction wire time, processing, Return Delay Time, status wire time.
+  Modelled,
+  /// Every reply is due the moment its instruction has arrived (the daemon's `fast` and `manual`
+  /// timing modes). Order, chaining and collisions are unchanged; only the delays are zero.
+  Immediate,
+};
+
 /// One port: the servos on it, the framers that hear the client, and the timing of every reply on
 /// the virtual clock. Receives the client's bytes, decides which servos are addressed, lets them
 /// execute, and schedules their status packets when real servos would have put them on the wire.
@@ -39,6 +48,9 @@ class Bus {
 
   /// True while `servo` is booting after Reboot, Factory Reset or Backup restore (silent).
   bool booting(const model::Servo& servo) const;
+
+  /// Chooses how replies are timed; Modelled unless set.
+  void set_reply_timing(ReplyTiming timing) { timing_ = timing; }
 
   /// Counters since the bus was made.
   const BusStats& stats() const { return stats_; }
@@ -81,6 +93,12 @@ class Bus {
   void settle(Station& station, bool reboot, sim::SimTime at);
   std::vector<std::uint8_t> status_bytes(const Station& station,
                                          const model::ServoResponse& response) const;
+  /// Wire time of `bytes` at `bps`, or zero under ReplyTiming::Immediate.
+  sim::SimDuration line_time(std::size_t bytes, std::uint32_t bps) const;
+  /// When an instruction's last byte has crossed the line.
+  sim::SimTime line_end(const wire::Frame& frame, std::uint32_t bps) const;
+  /// A servo's processing time plus its Return Delay Time, or zero under Immediate.
+  sim::SimDuration turnaround(const Reply& reply) const;
 
   sim::Scheduler& scheduler_;
   ByteLink& link_;
@@ -91,6 +109,7 @@ class Bus {
   std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
   std::optional<sim::Scheduler::EventId> expiry_;    // the framers' inter-byte timeout
   BusStats stats_;
+  ReplyTiming timing_ = ReplyTiming::Modelled;
 };
 
 }  // namespace dxlemu::bus

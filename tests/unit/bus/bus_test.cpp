@@ -327,3 +327,36 @@ TEST_CASE("Sync Write and Bulk Write are applied without replies", "[bus]") {
   CHECK(rig.bus.servos()[0]->table().get("led") == 1);
   CHECK(rig.bus.servos()[1]->table().get("status_return_level") == 1);
 }
+
+TEST_CASE("Immediate reply timing answers at once, in the same order with the same bytes",
+          "[bus][timing]") {
+  BusRig modelled;
+  BusRig immediate;
+  immediate.bus.set_reply_timing(bus::ReplyTiming::Immediate);
+  const std::vector<wire::InstructionPacket> packets = {
+      {Protocol::V2, kBroadcast, wire::Ping{}},
+      {Protocol::V2, kBroadcast, wire::SyncRead{7, 1, {3, 1}}},
+      {Protocol::V2, kBroadcast, wire::FastSyncRead{{7, 1, {2, 3}}}},
+      {Protocol::V2, 2, wire::Read{7, 1}},
+  };
+  for (BusRig* rig : {&modelled, &immediate}) {
+    for (const std::uint8_t id : {1, 2, 3}) {
+      rig->add("xm430-w350", id);
+    }
+  }
+  immediate.scheduler.advance_by(7ms);
+  for (const auto& packet : packets) {
+    modelled.send(packet);
+    modelled.run();
+    immediate.send(packet);
+    immediate.scheduler.run_due();  // nothing is due later than the instruction's arrival
+  }
+  const auto& now = immediate.link.deliveries();
+  REQUIRE(now.size() == 3 + 2 + 1 + 1);
+  REQUIRE(modelled.link.deliveries().size() == now.size());
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    CHECK(now[i].bytes == modelled.link.deliveries()[i].bytes);
+    CHECK(now[i].at == sim::SimTime{} + 7ms);
+  }
+  CHECK(test::status_text(now[3].bytes) == "id=3 error=0x00 params=03");
+}
