@@ -12,6 +12,7 @@ packages=(
   libcli11-dev        # command line
   clang-format        # scripts/test.sh refuses unformatted C++
   python3             # end-to-end tests and examples (standard library only)
+  python3-serial      # pyserial, for the end-to-end test that drives dxlemu as DynamixelSDK does
 )
 
 missing=()

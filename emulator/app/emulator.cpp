@@ -3,7 +3,12 @@
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <nlohmann/json.hpp>
-#include <stdexcept>
+
+#include "app/log.hpp"
+#include "app/trace_record.hpp"
+#include "bus/bus.hpp"
+#include "io/atomic_file.hpp"
+#include "io/pty_link.hpp"
 
 namespace dxlemu::app {
 
@@ -13,45 +18,105 @@ struct Emulator::Port {
   std::unique_ptr<bus::Bus> bus;
 };
 
-Emulator::Emulator(const ModelLibrary& library, const std::vector<PortConfig>& ports) {
-  for (const PortConfig& config : ports) {
+Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options)
+    : options_(options),
+      driver_(io_, scheduler_,
+              options.timing == TimingMode::Manual ? io::Pace::Manual : io::Pace::WallClock) {
+  // Everything that can be refused is checked before the first PTY opens.
+  const BusState state = options_.state ? read_state(*options_.state) : BusState{};
+  if (options_.trace) {
+    trace_.open(*options_.trace, std::ios::trunc);
+    if (!trace_) {
+      throw ConfigError(options_.trace->string(), "", "cannot be created (--trace)");
+    }
+  }
+  for (const PortConfig& port_config : config.ports) {
     auto port = std::make_unique<Port>();
-    port->config = config;
-    port->pty = std::make_unique<io::PtyLink>(io_, config.link);
+    port->config = port_config;
+    port->pty = std::make_unique<io::PtyLink>(io_, port_config.link);
     port->bus = std::make_unique<bus::Bus>(scheduler_, *port->pty);
-    for (const ServoConfig& servo : config.servos) {
-      const auto spec = library.find(servo.model);
-      if (!spec) {
-        throw std::invalid_argument("unknown model \"" + servo.model +
-                                    "\" (dxlemu models lists them)");
-      }
-      model::Servo& added = port->bus->add_servo(std::make_unique<model::Servo>(spec, servo.id));
+    if (options_.timing != TimingMode::Realtime) {
+      port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
+    }
+    for (const ServoConfig& servo : port_config.servos) {
+      check_servo(servo, library);
+      model::Servo& added =
+          port->bus->add_servo(std::make_unique<model::Servo>(library.find(servo.model), servo.id));
       for (const auto& [key, value] : servo.items) {
-        const model::ItemSpec* item = spec->find(key);
-        const std::string who = "servo " + std::to_string(servo.id) + " (" + servo.model + "): ";
-        if (item == nullptr) {
-          throw std::invalid_argument(who + "no item \"" + key + "\"");
-        }
-        if (!item->in_range(value)) {
-          throw std::invalid_argument(who + key + " " + std::to_string(value) +
-                                      " is outside its range " + std::to_string(item->min) + " ~ " +
-                                      std::to_string(item->max));
-        }
         added.table().set(key, value);
       }
-      added.commit_deferred();
+    }
+    if (trace_.is_open()) {
+      const std::string name = port_config.name;
+      port->bus->set_observer(
+          {[this, name](const wire::FramerEvent& event) {
+             trace_ << heard_record(name, event).dump() << '\n' << std::flush;
+           },
+           [this, name](std::span<const std::uint8_t> bytes, sim::SimTime at, wire::Protocol p) {
+             trace_ << sent_record(name, bytes, at, p).dump() << '\n' << std::flush;
+           }});
     }
     ports_.push_back(std::move(port));
   }
+  restore(state);
 }
 
 Emulator::~Emulator() = default;
 
+void Emulator::restore(const BusState& state) {
+  for (const auto& port : ports_) {
+    const auto it = state.find(port->config.name);
+    const auto& servos = port->bus->servos();
+    for (std::size_t i = 0; i < servos.size(); ++i) {
+      model::Servo& servo = *servos[i];
+      if (it != state.end() && i < it->second.size()) {
+        const ServoState& saved = it->second[i];
+        if (saved.model == servo.spec().name) {
+          restore_state(servo.table(), saved, options_.state->string(),
+                        "/ports/" + port->config.name + "/" + std::to_string(i));
+        } else {
+          log(LogLevel::Warn, options_.state->string() + ": " + port->config.name + " servo " +
+                                  std::to_string(i) + " was a " + saved.model + ", now a " +
+                                  servo.spec().name + ": it starts from its config");
+        }
+      }
+      servo.commit_deferred();  // the ID, baud and protocol of the config and the state apply
+    }
+  }
+  save_state_if_changed();
+}
+
+void Emulator::save_state_if_changed() {
+  if (!options_.state) {
+    return;
+  }
+  std::vector<std::vector<std::uint8_t>> images;
+  for (const auto& port : ports_) {
+    for (const auto& servo : port->bus->servos()) {
+      images.push_back(eeprom_image(servo->table()));
+    }
+  }
+  if (images == saved_eeprom_ && std::filesystem::exists(*options_.state)) {
+    return;
+  }
+  BusState state;
+  for (const auto& port : ports_) {
+    auto& list = state[port->config.name];
+    for (const auto& servo : port->bus->servos()) {
+      list.push_back(capture_state(servo->table()));
+    }
+  }
+  io::write_file_atomically(*options_.state, state_to_text(state));
+  saved_eeprom_ = std::move(images);
+  log(LogLevel::Debug, "saved the EEPROM of every servo to " + options_.state->string());
+}
+
 void Emulator::run(std::ostream& out) {
   // Signals first: a script may send SIGTERM the moment it reads the readiness line.
   boost::asio::signal_set signals(io_, SIGINT, SIGTERM);
-  signals.async_wait([this](const boost::system::error_code& ec, int) {
+  signals.async_wait([this](const boost::system::error_code& ec, int signal) {
     if (!ec) {
+      log(LogLevel::Info, std::string("stopping on ") + (signal == SIGINT ? "SIGINT" : "SIGTERM"));
       io_.stop();
     }
   });
@@ -61,6 +126,7 @@ void Emulator::run(std::ostream& out) {
       driver_.catch_up();
       bus.receive(bytes, scheduler_.now(), bps);
       driver_.rearm();
+      save_state_if_changed();
     });
     nlohmann::ordered_json servos = nlohmann::ordered_json::array();
     for (const ServoConfig& s : port->config.servos) {
@@ -73,8 +139,18 @@ void Emulator::run(std::ostream& out) {
     }
     ready["servos"] = servos;
     out << ready.dump() << std::endl;  // flushed: scripts wait for this line
+    log(LogLevel::Info, port->config.name + ": " + std::to_string(port->config.servos.size()) +
+                            " servos on " + port->pty->slave_path());
   }
   io_.run();
+  save_state_if_changed();
+  for (const auto& port : ports_) {
+    const bus::BusStats& s = port->bus->stats();
+    log(LogLevel::Info, port->config.name + ": " + std::to_string(s.frames) + " packets, " +
+                            std::to_string(s.replies) + " replies, " +
+                            std::to_string(s.bad_checks) + " bad checks, " +
+                            std::to_string(s.collisions) + " collisions");
+  }
 }
 
 }  // namespace dxlemu::app

@@ -2,56 +2,65 @@
 
 #include <boost/asio/io_context.hpp>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <ostream>
-#include <string>
 #include <vector>
 
+#include "app/bus_config.hpp"
+#include "app/bus_state.hpp"
 #include "app/model_library.hpp"
-#include "bus/bus.hpp"
-#include "io/pty_link.hpp"
 #include "io/realtime_driver.hpp"
 #include "sim/scheduler.hpp"
 
 namespace dxlemu::app {
 
-/// One servo of a port: a model from the library, its ID, and items to set at power-on (by key,
-/// e.g. baud_rate, return_delay_time, protocol_type), as if written before the emulator started.
-struct ServoConfig {
-  std::string model;
-  std::uint8_t id = 1;
-  std::vector<std::pair<std::string, std::int64_t>> items;
+/// How simulated time relates to the wall clock (`--timing`, docs/timing.md).
+enum class TimingMode {
+  Realtime,  ///< replies when real servos would send them (the default)
+  Fast,      ///< replies at once: no wire time, processing or Return Delay Time
+  Manual,    ///< simulated time stands still until the control API steps it; replies at once
 };
 
-/// One port: a PTY with an optional stable symlink, and its servos.
-struct PortConfig {
-  std::string name;
-  std::optional<std::filesystem::path> link;
-  std::vector<ServoConfig> servos;
+/// What `dxlemu run` does besides serving the buses.
+struct RunOptions {
+  TimingMode timing = TimingMode::Realtime;
+  /// Keep every servo's EEPROM here across restarts (docs/config.md "State file").
+  std::optional<std::filesystem::path> state;
+  /// Write every packet both ways here as JSON lines (docs/trace.md).
+  std::optional<std::filesystem::path> trace;
 };
 
 /// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, and a
 /// PTY and a Bus per port. Construction opens everything or throws; nothing runs half-configured.
 class Emulator {
  public:
-  /// Builds every port. Throws std::invalid_argument naming an unknown model, an unknown item or
-  /// a value outside its range, std::system_error when a PTY or link cannot be made.
-  Emulator(const ModelLibrary& library, const std::vector<PortConfig>& ports);
+  /// Builds every port of `config` (already validated by parse_config or check_servo), restores
+  /// EEPROM from the state file and opens the trace. Throws ConfigError for a bad state file or
+  /// trace path, std::system_error when a PTY or link cannot be made.
+  Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options);
   ~Emulator();
   Emulator(const Emulator&) = delete;
   Emulator& operator=(const Emulator&) = delete;
 
   /// Writes one readiness line per port (JSON) to `out`, serves until SIGINT or SIGTERM, then
-  /// returns; the destructor removes the links.
+  /// saves the state and returns; the destructor removes the links.
   void run(std::ostream& out);
 
  private:
   struct Port;
+  void restore(const BusState& state);
+  /// Saves the state file if any servo's EEPROM changed since the last save.
+  void save_state_if_changed();
+
+  RunOptions options_;
   boost::asio::io_context io_;
   sim::Scheduler scheduler_;
-  io::RealTimeDriver driver_{io_, scheduler_};
+  io::RealTimeDriver driver_;
   std::vector<std::unique_ptr<Port>> ports_;
+  std::ofstream trace_;
+  std::vector<std::vector<std::uint8_t>> saved_eeprom_;  // per servo, ports in order
 };
 
 }  // namespace dxlemu::app

@@ -1,11 +1,13 @@
-// dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves a bus of virtual servos on a
-// pseudo-terminal; `dxlemu models` lists the model library.
+// dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves buses of virtual servos on
+// pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <iomanip>
 #include <iostream>
 
+#include "app/bus_config.hpp"
 #include "app/emulator.hpp"
+#include "app/log.hpp"
 #include "app/model_library.hpp"
 #include "dxlemu/version.hpp"
 #include "model/model_error.hpp"
@@ -19,6 +21,12 @@ constexpr int kExitBadInput = 2;
 constexpr const char* kDefaultServos = "xm430-w350:1-3";
 constexpr const char* kDefaultLink = "/tmp/dxlemu-dxl0";
 constexpr int kMaxServoId = 252;
+
+// --timing names (docs/timing.md).
+const std::map<std::string, dxlemu::app::TimingMode> kTimingModes = {
+    {"realtime", dxlemu::app::TimingMode::Realtime},
+    {"fast", dxlemu::app::TimingMode::Fast},
+    {"manual", dxlemu::app::TimingMode::Manual}};
 
 // "NAME:ID" or "NAME:FIRST-LAST" (model names may contain ':'-free punctuation such as '+').
 std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text) {
@@ -57,36 +65,6 @@ std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text
   return out;
 }
 
-// --baud BPS: the Baud Rate item value that selects BPS on `spec`, or an error naming what the
-// model offers.
-std::int64_t baud_index(const dxlemu::model::ModelSpec& spec, std::uint32_t bps) {
-  std::string offered;
-  for (const auto& b : spec.baud_rates) {
-    if (b.bps == bps) {
-      return b.index;
-    }
-    offered += (offered.empty() ? "" : ", ") + std::to_string(b.bps);
-  }
-  throw std::invalid_argument("--baud " + std::to_string(bps) + ": " + spec.name +
-                              " cannot do it (it offers " + offered + ")");
-}
-
-// --protocol N: the Protocol Type item (Protocol Version on MX-64/106(2.0)); models without it
-// must already speak N.
-std::optional<std::pair<std::string, std::int64_t>> protocol_item(
-    const dxlemu::model::ModelSpec& spec, int protocol) {
-  for (const char* key : {"protocol_type", "protocol_version"}) {
-    if (spec.find(key) != nullptr) {
-      return std::pair<std::string, std::int64_t>{key, protocol};
-    }
-  }
-  if (static_cast<int>(spec.protocols.front()) != protocol) {
-    throw std::invalid_argument("--protocol " + std::to_string(protocol) + ": " + spec.name +
-                                " cannot speak it");
-  }
-  return std::nullopt;
-}
-
 dxlemu::app::ModelLibrary load_library(const std::vector<std::string>& dirs) {
   return dxlemu::app::ModelLibrary::load(
       dxlemu::app::shipped_models_dir(),
@@ -121,10 +99,37 @@ std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
 
 }  // namespace
 
+// Applies --baud and --protocol to every servo of `config`, after its own item overrides.
+void apply_bus_options(dxlemu::app::BusConfig& config, const dxlemu::app::ModelLibrary& library,
+                       std::optional<std::uint32_t> baud, std::optional<int> protocol) {
+  for (auto& port : config.ports) {
+    for (auto& servo : port.servos) {
+      const auto spec = library.find(servo.model);
+      if (!spec) {
+        continue;  // check_servo names it
+      }
+      try {
+        if (baud) {
+          servo.items.emplace_back("baud_rate", dxlemu::app::baud_rate_item_value(*spec, *baud));
+        }
+        if (protocol) {
+          if (auto item = dxlemu::app::protocol_item(*spec, *protocol)) {
+            servo.items.push_back(std::move(*item));
+          }
+        }
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(baud ? "--baud" : "--protocol") +
+                                    (baud && protocol ? "/--protocol" : "") + ": " + e.what());
+      }
+    }
+  }
+}
+
 int main(int argc, char** argv) {
-  CLI::App app{"dxlemu: emulates a chain of ROBOTIS DYNAMIXEL servos on a pseudo-terminal"};
+  CLI::App app{"dxlemu: emulates chains of ROBOTIS DYNAMIXEL servos on pseudo-terminals"};
   app.set_version_flag("--version", std::string("dxlemu ") + dxlemu::kVersion);
   app.require_subcommand(0, 1);
+  app.footer("Documentation: README.md and docs/ (config format: docs/config.md)");
 
   std::vector<std::string> model_dirs;
   auto* models =
@@ -135,50 +140,108 @@ int main(int argc, char** argv) {
                    "shipped model of the same name")
       ->check(CLI::ExistingDirectory);
 
+  std::string check_file;
+  auto* check = app.add_subcommand("check", "Validate a bus config file and print its ports");
+  check->add_option("FILE", check_file, "The config file (docs/config.md)")
+      ->required()
+      ->type_name("FILE");
+  check->add_option("--models", model_dirs, "Also load every *.json model file of DIR (repeatable)")
+      ->check(CLI::ExistingDirectory);
+
   std::vector<std::string> servo_options;
   std::string link = kDefaultLink;
-  auto* run = app.add_subcommand("run", "Serve a bus of virtual servos on a pseudo-terminal");
-  run->add_option("--servo", servo_options,
-                  "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); default " +
-                      std::string(kDefaultServos));
-  run->add_option("--link", link, "Stable symlink to the port's PTY, removed on exit")
-      ->capture_default_str();
+  std::string config_file;
+  auto* run = app.add_subcommand("run", "Serve buses of virtual servos on pseudo-terminals");
+  auto* config_option =
+      run->add_option("--config", config_file,
+                      "Serve the ports and servos of this config file (docs/config.md)")
+          ->type_name("FILE");
+  auto* servo_option =
+      run->add_option(
+             "--servo", servo_options,
+             "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); default " +
+                 std::string(kDefaultServos))
+          ->type_name("NAME:ID");
+  auto* link_option =
+      run->add_option("--link", link, "Stable symlink to port dxl0's PTY, removed on exit")
+          ->type_name("PATH")
+          ->capture_default_str();
+  servo_option->excludes(config_option);
+  link_option->excludes(config_option);
   run->add_option("--models", model_dirs, "Also load every *.json model file of DIR (repeatable)")
       ->check(CLI::ExistingDirectory);
   std::optional<std::uint32_t> baud;
   std::optional<int> protocol;
   run->add_option("--baud", baud,
                   "Set every servo's Baud Rate to BPS (an error if a model cannot do it); "
-                  "default: each model's factory rate");
+                  "default: each model's factory rate or the config's")
+      ->type_name("BPS");
   run->add_option("--protocol", protocol,
                   "Set Protocol Type to 1 or 2 on the models that have it; default: factory")
       ->check(CLI::IsMember({1, 2}));
+  dxlemu::app::RunOptions options;
+  std::string timing = "realtime";
+  run->add_option("--timing", timing,
+                  "realtime: replies at the modelled time; fast: replies at once; manual: "
+                  "simulated time stands still, replies at once (docs/timing.md)")
+      ->check(CLI::IsMember({"realtime", "fast", "manual"}))
+      ->capture_default_str();
+  run->add_option("--state", options.state,
+                  "Keep every servo's EEPROM in FILE across restarts (written atomically)")
+      ->type_name("FILE");
+  run->add_option("--trace", options.trace,
+                  "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
+      ->type_name("FILE");
+  std::string log_level = "info";
+  run->add_option("--log-level", log_level, "Messages on stderr: error, warn, info or debug")
+      ->check(CLI::IsMember({"error", "warn", "info", "debug"}))
+      ->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; a bad command line is refused input like a bad config.
+    return app.exit(e) == 0 ? 0 : kExitBadInput;
+  }
 
   if (run->parsed()) {
     return run_command([&] {
+      dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(log_level));
+      options.timing = kTimingModes.at(timing);
       const auto library = load_library(model_dirs);
-      dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(link), {}};
-      if (servo_options.empty()) {
-        servo_options.emplace_back(kDefaultServos);
-      }
-      for (const std::string& option : servo_options) {
-        for (auto& servo : parse_servo_option(option)) {
-          const auto spec = library.find(servo.model);
-          if (spec && baud) {
-            servo.items.emplace_back("baud_rate", baud_index(*spec, *baud));
-          }
-          if (spec && protocol) {
-            if (auto item = protocol_item(*spec, *protocol)) {
-              servo.items.push_back(std::move(*item));
-            }
-          }
-          port.servos.push_back(std::move(servo));
+      dxlemu::app::BusConfig config;
+      if (!config_file.empty()) {
+        config = dxlemu::app::read_config(config_file, library);
+      } else {
+        dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(link), {}};
+        if (servo_options.empty()) {
+          servo_options.emplace_back(kDefaultServos);
         }
+        for (const std::string& option : servo_options) {
+          for (auto& servo : parse_servo_option(option)) {
+            port.servos.push_back(std::move(servo));
+          }
+        }
+        config.ports.push_back(std::move(port));
       }
-      dxlemu::app::Emulator emulator(library, {port});
+      apply_bus_options(config, library, baud, protocol);
+      dxlemu::app::Emulator emulator(library, config, options);
       emulator.run(std::cout);
+    });
+  }
+  if (check->parsed()) {
+    return run_command([&] {
+      const auto library = load_library(model_dirs);
+      const auto config = dxlemu::app::read_config(check_file, library);
+      std::cout << check_file << ": ok\n";
+      for (const auto& port : config.ports) {
+        std::cout << "  " << port.name << ": " << port.servos.size()
+                  << (port.servos.size() == 1 ? " servo" : " servos");
+        if (port.link) {
+          std::cout << " at " << port.link->string();
+        }
+        std::cout << "\n";
+      }
     });
   }
   if (models->parsed()) {

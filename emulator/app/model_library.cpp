@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <system_error>
 
 #include "model/model_error.hpp"
 #include "model/model_loader.hpp"
@@ -107,6 +108,18 @@ fs::path shipped_models_dir() {
   if (const char* dir = std::getenv("DXLEMU_MODELS_DIR"); dir != nullptr && *dir != '\0') {
     return dir;
   }
+  // Why relative to the executable rather than an absolute path fixed at build time: the same
+  // binary then works under any prefix (`cmake --install --prefix`, the .deb's /usr, a moved
+  // tree). /proc/self/exe names the real file even when the binary is run through a symlink.
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    fs::path installed = (exe.parent_path() / DXLEMU_BINDIR_TO_MODELSDIR).lexically_normal();
+    if (fs::is_regular_file(installed / "catalog.json", error)) {
+      return installed;
+    }
+  }
+  // No installed copy beside the binary: it runs from the build tree, next to its sources.
   return DXLEMU_SOURCE_MODELS_DIR;
 }
 

@@ -38,8 +38,10 @@ class ModelLibrary {
   std::map<std::string, std::string> origins_;
 };
 
-/// The directory of the shipped models: $DXLEMU_MODELS_DIR when set, else the source tree's
-/// models/ this binary was built from.
+/// The directory of the shipped models, the first of: $DXLEMU_MODELS_DIR when set and not empty;
+/// the installed library, found from the running executable's directory (/proc/self/exe) by the
+/// install layout's relative path (`../share/dxlemu/models` by default), when it holds a
+/// catalog.json; else the source tree's models/ this binary was built from (a build-tree binary).
 std::filesystem::path shipped_models_dir();
 
 }  // namespace dxlemu::app

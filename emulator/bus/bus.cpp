@@ -162,6 +162,11 @@ void Bus::schedule_expiry(std::uint32_t client_bps) {
 
 void Bus::handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps) {
   for (const wire::FramerEvent& event : events) {
+    const auto* failure = std::get_if<wire::FramingError>(&event);
+    if (observer_.heard &&
+        (failure == nullptr || failure->kind != wire::FramingErrorKind::Garbage)) {
+      observer_.heard(event);
+    }
     if (const auto* frame = std::get_if<wire::Frame>(&event)) {
       ++stats_.frames;
       on_frame(*frame, client_bps);
@@ -421,7 +426,7 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
   }
   std::vector<std::uint8_t> bytes = collide(packets);
   const SimTime delivered = start + line_time(bytes.size(), first.station->servo->baud_bps());
-  send_at(std::move(bytes), delivered, std::move(settlements));
+  send_at(std::move(bytes), delivered, wire::Protocol::V2, std::move(settlements));
 }
 
 void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
@@ -457,10 +462,14 @@ void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
       packet.instruction);
 }
 
+wire::Protocol Bus::status_protocol(const Station& station) {
+  return station.servo->protocol().value_or(wire::Protocol::V2);
+}
+
 std::vector<std::uint8_t> Bus::status_bytes(const Station& station,
                                             const model::ServoResponse& response) const {
-  const auto protocol = station.servo->protocol().value_or(wire::Protocol::V2);
-  return wire::encode_status({protocol, station.servo->id(), response.error, response.params});
+  return wire::encode_status(
+      {status_protocol(station), station.servo->id(), response.error, response.params});
 }
 
 void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
@@ -484,27 +493,31 @@ void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
     if (slot.size() > 1) {
       ++stats_.id_conflicts;
     }
-    send_at(collide(packets), slot_end, std::move(settlements));
+    send_at(collide(packets), slot_end, status_protocol(*slot.front().station),
+            std::move(settlements));
     after = slot_end;
   }
 }
 
-void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at,
+void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol protocol,
                   std::vector<Settlement> settlements) {
   auto outgoing = std::make_shared<Outgoing>();
   outgoing_.push_back(outgoing);
-  scheduler_.schedule_at(
-      at, [this, outgoing, bytes = std::move(bytes), settlements = std::move(settlements)] {
-        std::erase(outgoing_, outgoing);
-        if (!outgoing->cancelled) {
-          ++stats_.replies;
-          link_.deliver(bytes, scheduler_.now());
-        }
-        // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
-        for (const Settlement& s : settlements) {
-          settle(*s.station, s.reboot, scheduler_.now());
-        }
-      });
+  scheduler_.schedule_at(at, [this, outgoing, protocol, bytes = std::move(bytes),
+                              settlements = std::move(settlements)] {
+    std::erase(outgoing_, outgoing);
+    if (!outgoing->cancelled) {
+      ++stats_.replies;
+      link_.deliver(bytes, scheduler_.now());
+      if (observer_.sent) {
+        observer_.sent(bytes, scheduler_.now(), protocol);
+      }
+    }
+    // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
+    for (const Settlement& s : settlements) {
+      settle(*s.station, s.reboot, scheduler_.now());
+    }
+  });
 }
 
 void Bus::settle(Station& station, bool reboot, SimTime at) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -22,6 +23,17 @@ enum class ReplyTiming {
   /// Every reply is due the moment its instruction has arrived (the daemon's `fast` and `manual`
   /// timing modes). Order, chaining and collisions are unchanged; only the delays are zero.
   Immediate,
+};
+
+/// Sees what crosses the line, for traces: set with Bus::set_observer; empty members are skipped.
+struct LineObserver {
+  /// A packet the framers heard from the client, or a framing failure (garbage skipped while
+  /// searching for a header is only counted, not reported).
+  std::function<void(const wire::FramerEvent& event)> heard;
+  /// Bytes delivered to the client at `at` (a status, a Fast reply, or colliding replies), sent by
+  /// servos speaking `protocol`.
+  std::function<void(std::span<const std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol)>
+      sent;
 };
 
 /// One port: the servos on it, the framers that hear the client, and the timing of every reply on
@@ -51,6 +63,9 @@ class Bus {
 
   /// Chooses how replies are timed; Modelled unless set.
   void set_reply_timing(ReplyTiming timing) { timing_ = timing; }
+
+  /// Reports every packet both ways to `observer` from now on (replaces any earlier one).
+  void set_observer(LineObserver observer) { observer_ = std::move(observer); }
 
   /// Counters since the bus was made.
   const BusStats& stats() const { return stats_; }
@@ -88,11 +103,13 @@ class Bus {
     Station* station;
     bool reboot;
   };
-  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at,
+  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol,
                std::vector<Settlement> settlements);
   void settle(Station& station, bool reboot, sim::SimTime at);
   std::vector<std::uint8_t> status_bytes(const Station& station,
                                          const model::ServoResponse& response) const;
+  /// The protocol a station's status packets use (as it speaks when the instruction arrives).
+  static wire::Protocol status_protocol(const Station& station);
   /// Wire time of `bytes` at `bps`, or zero under ReplyTiming::Immediate.
   sim::SimDuration line_time(std::size_t bytes, std::uint32_t bps) const;
   /// When an instruction's last byte has crossed the line.
@@ -110,6 +127,7 @@ class Bus {
   std::optional<sim::Scheduler::EventId> expiry_;    // the framers' inter-byte timeout
   BusStats stats_;
   ReplyTiming timing_ = ReplyTiming::Modelled;
+  LineObserver observer_;
 };
 
 }  // namespace dxlemu::bus

@@ -21,6 +21,7 @@ constexpr SimDuration kV2InterByteTimeout = std::chrono::microseconds(1500);
 // Write of 4 bytes to all 253 IDs is 1.3 KiB) and call anything longer an impossible length.
 constexpr std::size_t kV2MaxPacketBytes = 4096;
 constexpr std::size_t kV2HeaderIdLengthBytes = 7;  // FF FF FD 00 ID LEN_L LEN_H
+constexpr std::uint8_t kV2HeaderThirdByte = 0xFD;  // read as a 1.0 ID by the 1.0 framer
 
 // Compaction threshold: resolved bytes are erased from the front of the buffer in batches.
 constexpr std::size_t kCompactBytes = 4096;
@@ -208,6 +209,12 @@ void Framer::scan(bool stale, std::vector<FramerEvent>& out) {
       continue;
     }
     std::size_t length = buf_[pos + h + 1];
+    // FF FF FD 00 is the Protocol 2.0 header: on a mixed bus it is the other protocol's traffic,
+    // not a broken 1.0 packet (whose LENGTH is never 0), so it is skipped like any other noise.
+    if (format_.protocol == Protocol::V1 && id == kV2HeaderThirdByte && length == 0) {
+      skip_garbage(1);
+      continue;
+    }
     if (format_.length_field_bytes == 2) {
       length |= static_cast<std::size_t>(buf_[pos + h + 2]) << 8;
     }

@@ -2,7 +2,9 @@
 
 Timing assertions use generous bounds only: these machines are shared and noisy.
 """
+import json
 import os
+import signal
 import subprocess
 import tempfile
 import time
@@ -11,6 +13,7 @@ import unittest
 from dxl_client import Daemon, Port, packet1, packet2
 
 PING, READ, WRITE, SYNC_READ = 0x01, 0x02, 0x03, 0x82
+BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45 (models/xm430-w350.json)
 
 
@@ -140,19 +143,174 @@ class DaemonTest(unittest.TestCase):
         self.assertFalse(os.path.lexists(self.link))
 
     def test_bad_servo_options_are_refused_with_exit_code_2(self):
-        binary = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
         for args, message in [(["--servo", "xm999:1"], 'unknown model "xm999"'),
                               (["--servo", "xm430-w350:x"], "the ID part must be a number"),
                               (["--servo", "xm430-w350:5-2"], "IDs must lie in 0 ~ 252"),
                               (["--servo", "ax-12a:1", "--baud", "4500000"],
-                               "ax-12a cannot do it (it offers 1000000"),
+                               "--baud: ax-12a cannot do 4500000 bps (it offers 1000000"),
                               (["--servo", "xl-320:1", "--protocol", "1"],
-                               "xl-320 cannot speak it")]:
-            result = subprocess.run([binary, "run", "--link", self.link, *args],
+                               "--protocol: xl-320 cannot speak protocol 1"),
+                              (["--timing", "slow"], "--timing: slow not in"),
+                              (["--config", "x.json", "--servo", "ax-12a:1"],
+                               "--config excludes --servo")]:
+            result = subprocess.run([BINARY, "run", "--link", self.link, *args],
                                     capture_output=True, text=True, timeout=10)
             self.assertEqual(result.returncode, 2, args)
             self.assertIn(message, result.stderr)
             self.assertFalse(os.path.lexists(self.link))
+
+
+    def write_config(self, config):
+        path = os.path.join(self.dir.name, "bus.json")
+        with open(path, "w") as f:
+            json.dump(config, f)
+        return path
+
+    def test_a_config_serves_several_ports_with_their_overrides(self):
+        arm = os.path.join(self.dir.name, "arm")
+        legs = os.path.join(self.dir.name, "legs")
+        config = self.write_config({"ports": [
+            {"name": "arm", "link": arm, "servos": [
+                {"model": "xm430-w350", "ids": [1, 2], "items": {"return_delay_time": 0}}]},
+            {"name": "legs", "link": legs, "servos": [
+                {"model": "ax-12a", "id": 7, "baud": 57600}]}]})
+        daemon = Daemon("--config", config)
+        self.addCleanup(daemon.stop)
+        self.assertEqual(daemon.ready["port"], "arm")
+        second = json.loads(daemon.proc.stdout.readline())
+        self.assertEqual(second, {"event": "ready", "port": "legs", "pty": second["pty"],
+                                  "link": legs, "servos": [{"id": 7, "model": "ax-12a"}]})
+        port = Port(arm)
+        port.write(packet2(2, READ, bytes([9, 0, 1, 0])))  # Return Delay Time
+        self.assertEqual(port.status2(), (2, 0, b"\x00"))
+        port.close()
+        port = Port(legs)
+        port.write(packet1(7, READ, bytes([4, 1])))  # Baud Rate: 34 is 57600 bps
+        self.assertEqual(port.status1(), (7, 0, b"\x22"))
+        port.write(packet1(7, WRITE, bytes([25, 1])))  # LED on
+        self.assertEqual(port.status1(), (7, 0, b""))
+        port.write(packet1(7, READ, bytes([25, 1])))
+        self.assertEqual(port.status1(), (7, 0, b"\x01"))
+        port.close()
+        self.assertEqual(daemon.stop(), 0)
+        self.assertFalse(os.path.lexists(arm) or os.path.lexists(legs))
+
+    def test_check_validates_a_config_and_a_bad_one_is_refused_with_exit_code_2(self):
+        good = self.write_config({"ports": [{"name": "dxl0", "servos": [
+            {"model": "xm430-w350", "id": 1}]}]})
+        result = subprocess.run([BINARY, "check", good], capture_output=True, text=True)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn(good + ": ok", result.stdout)
+        bad = self.write_config({"ports": [{"name": "dxl0", "link": self.link, "servos": [
+            {"model": "xm430-w350", "id": 1, "items": {"return_delay_time": 999}}]}]})
+        expected = (bad + ": /ports/0/servos/0/items/return_delay_time: xm430-w350 "
+                    "return_delay_time 999 is outside its range 0 ~ 254")
+        for command in (["check", bad], ["run", "--config", bad]):
+            result = subprocess.run([BINARY, *command], capture_output=True, text=True,
+                                    timeout=10)
+            self.assertEqual(result.returncode, 2, command)
+            self.assertEqual(result.stderr.strip(), "dxlemu: " + expected)
+            self.assertEqual(result.stdout, "")  # no readiness line: nothing started
+            self.assertFalse(os.path.lexists(self.link))
+
+    def test_state_keeps_eeprom_across_restarts_and_is_saved_at_once(self):
+        state = os.path.join(self.dir.name, "state.json")
+        daemon = self.start("--state", state)
+        port = Port(self.link)
+        port.write(packet2(2, WRITE, bytes([9, 0, 10])))  # Return Delay Time 10
+        self.assertEqual(port.status2(), (2, 0, b""))
+        port.write(packet2(3, WRITE, bytes([7, 0, 30])))  # ID 3 becomes 30
+        self.assertEqual(port.status2(), (3, 0, b""))
+        port.write(packet2(1, WRITE, bytes([64, 0, 1])))  # Torque Enable (RAM): not kept
+        self.assertEqual(port.status2(), (1, 0, b""))
+        port.close()
+        # Saved when the write happened: even kill -9 keeps it.
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            with open(state) as f:
+                servos = json.load(f)["ports"]["dxl0"]
+            if servos[2]["eeprom"]["id"] == 30:
+                break
+            time.sleep(0.01)
+        self.assertEqual(servos[1]["eeprom"]["return_delay_time"], 10)
+        self.assertEqual(servos[2]["eeprom"]["id"], 30)
+        daemon.proc.send_signal(signal.SIGKILL)
+        daemon.proc.wait()
+        os.unlink(self.link)  # a killed daemon cannot remove its link
+        self.start("--state", state)
+        port = Port(self.link)
+        port.write(packet2(0xFE, PING))
+        self.assertEqual([port.status2()[0] for _ in range(3)], [1, 2, 30])
+        port.write(packet2(2, READ, bytes([9, 0, 1, 0])))
+        self.assertEqual(port.status2(), (2, 0, b"\x0a"))
+        port.write(packet2(1, READ, bytes([64, 0, 1, 0])))
+        self.assertEqual(port.status2(), (1, 0, b"\x00"))
+        port.close()
+
+    def test_a_broken_state_file_is_refused_with_exit_code_2(self):
+        state = os.path.join(self.dir.name, "state.json")
+        with open(state, "w") as f:
+            f.write('{"format": "dxlemu-state", "version": 1, "ports": '
+                    '{"dxl0": [{"model": "xm430-w350", "eeprom": {"id": 300}}]}}')
+        result = subprocess.run([BINARY, "run", "--link", self.link, "--state", state],
+                                capture_output=True, text=True, timeout=10)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn(state + ": /ports/dxl0/0/eeprom/id: 300 is outside", result.stderr)
+        self.assertFalse(os.path.lexists(self.link))
+
+    def read_trace(self, path):
+        with open(path) as f:
+            return [json.loads(line) for line in f]
+
+    def test_trace_writes_every_packet_both_ways_decoded(self):
+        trace = os.path.join(self.dir.name, "trace.jsonl")
+        daemon = self.start("--trace", trace)
+        port = Port(self.link)
+        port.write(packet2(1, READ, bytes([132, 0, 4, 0])))
+        self.assertIsNotNone(port.status2())
+        port.write(packet2(1, PING)[:-1] + b"\x00")  # bad CRC: answered with CRC Error
+        self.assertEqual(port.status2()[1], 0x03)
+        port.close()
+        self.assertEqual(daemon.stop(), 0)
+        lines = self.read_trace(trace)
+        self.assertEqual([(line["dir"], line.get("packet", line.get("problem")))
+                          for line in lines],
+                         [("in", "id=1 read address=132 length=4"),
+                          ("out", "id=1 error=0x00 params=00 08 00 00"),  # 2048
+                          ("in", "bad_check"),
+                          ("out", "id=1 error=0x03")])
+        # Modelled time: the reply's last byte arrives after the instruction's plus the delays.
+        self.assertGreater(lines[1]["t"] - lines[0]["t"], 0.0005 + 0.00005)
+
+    def test_fast_timing_replies_at_once_and_manual_timing_keeps_time_still(self):
+        for mode in ("fast", "manual"):
+            trace = os.path.join(self.dir.name, mode + ".jsonl")
+            daemon = Daemon("--link", self.link, "--timing", mode, "--trace", trace)
+            port = Port(self.link)
+            time.sleep(0.01)
+            port.write(packet2(0xFE, PING))
+            self.assertEqual([port.status2()[0] for _ in range(3)], [1, 2, 3])
+            port.close()
+            self.assertEqual(daemon.stop(), 0)
+            times = {line["t"] for line in self.read_trace(trace)}
+            self.assertEqual(len(times), 1, mode)  # every reply at the instruction's time
+            if mode == "manual":
+                self.assertEqual(times, {0.0})
+
+    def test_log_level_error_keeps_stderr_quiet_and_debug_tells_more(self):
+        state = os.path.join(self.dir.name, "state.json")
+        for level, expected in (("error", []),
+                                ("debug", ["info: dxl0: 3 servos on /dev/pts/",
+                                           "debug: saved the EEPROM of every servo to " + state,
+                                           "info: stopping on SIGTERM"])):
+            daemon = Daemon("--link", self.link, "--log-level", level, "--state", state)
+            daemon.proc.send_signal(signal.SIGTERM)
+            stderr = daemon.proc.stderr.read()
+            self.assertEqual(daemon.stop(), 0)
+            if not expected:
+                self.assertEqual(stderr, "")
+            for text in expected:
+                self.assertIn(text, stderr)
 
 
 if __name__ == "__main__":

@@ -208,3 +208,11 @@ TEST_CASE("A lone header prefix at a timeout is garbage, a started packet is tru
   framer.expire(SimTime{} + 2ms, events);
   CHECK(test::summary(events) == "garbage(3)");
 }
+
+TEST_CASE("The 1.0 framer hears a 2.0 packet as noise, not as an impossible 1.0 packet",
+          "[wire][garbage]") {
+  // FF FF FD 00 reads as 1.0 ID 0xFD with LENGTH 0: on a mixed bus that is the other protocol.
+  const Bytes v2_read = wire::encode_instruction({Protocol::V2, 1, wire::Read{132, 4}});
+  CHECK(frame_all(Protocol::V1, concat({v2_read, ping(Protocol::V1, 2)})) ==
+        "garbage(" + std::to_string(v2_read.size()) + ") frame(id=2)");
+}

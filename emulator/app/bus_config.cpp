@@ -1,0 +1,283 @@
+#include "app/bus_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace dxlemu::app {
+namespace {
+
+using nlohmann::json;
+
+constexpr int kMaxServoId = 252;
+constexpr std::size_t kMaxPortName = 32;  // 253 (0xFD) and up are not servo IDs in either protocol
+
+// RFC 6901: "~" and "/" inside a reference token are escaped.
+std::string pointer_token(const std::string& key) {
+  std::string out;
+  for (const char c : key) {
+    out += c == '~' ? "~0" : c == '/' ? "~1" : std::string(1, c);
+  }
+  return out;
+}
+
+// Walks a config document, refusing the first problem with its JSON pointer.
+class ConfigParser {
+ public:
+  ConfigParser(std::string origin, const ModelLibrary& library)
+      : origin_(std::move(origin)), library_(library) {}
+
+  BusConfig parse(const std::string& text) {
+    json doc;
+    try {
+      doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+      fail("", std::string("not valid JSON: ") + e.what());
+    }
+    object(doc, "", {"ports", "description"});
+    const json& ports = member(doc, "", "ports");
+    if (!ports.is_array() || ports.empty()) {
+      fail("/ports", "must be a non-empty array of ports");
+    }
+    BusConfig config;
+    std::set<std::string> names;
+    std::set<std::string> links;
+    for (std::size_t i = 0; i < ports.size(); ++i) {
+      const std::string at = "/ports/" + std::to_string(i);
+      PortConfig port = parse_port(ports[i], at);
+      if (!names.insert(port.name).second) {
+        fail(at + "/name", "port name \"" + port.name + "\" is used twice");
+      }
+      if (port.link && !links.insert(port.link->lexically_normal().string()).second) {
+        fail(at + "/link", "link " + port.link->string() + " is used twice");
+      }
+      config.ports.push_back(std::move(port));
+    }
+    return config;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& pointer, const std::string& reason) const {
+    throw ConfigError(origin_, pointer, reason);
+  }
+
+  // `value` must be an object whose keys are all in `allowed`.
+  void object(const json& value, const std::string& at,
+              std::initializer_list<const char*> allowed) {
+    if (!value.is_object()) {
+      fail(at, "must be an object");
+    }
+    for (const auto& member : value.items()) {
+      const std::string& key = member.key();
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) {
+        std::string list;
+        for (const char* a : allowed) {
+          list += (list.empty() ? "" : ", ") + std::string(a);
+        }
+        fail(at + "/" + pointer_token(key), "unknown field (allowed: " + list + ")");
+      }
+    }
+  }
+
+  const json& member(const json& value, const std::string& at, const char* key) {
+    if (!value.contains(key)) {
+      fail(at + "/" + key, "is required");
+    }
+    return value.at(key);
+  }
+
+  std::string string(const json& value, const std::string& at) {
+    if (!value.is_string() || value.get<std::string>().empty()) {
+      fail(at, "must be a non-empty string");
+    }
+    return value.get<std::string>();
+  }
+
+  std::int64_t integer(const json& value, const std::string& at, std::int64_t min,
+                       std::int64_t max) {
+    if (!value.is_number_integer()) {
+      fail(at, "must be an integer");
+    }
+    // Unsigned JSON numbers beyond int64 are out of any range we accept.
+    if (value.is_number_unsigned() &&
+        value.get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+      fail(at, value.dump() + " is outside " + std::to_string(min) + " ~ " + std::to_string(max));
+    }
+    const auto v = value.get<std::int64_t>();
+    if (v < min || v > max) {
+      fail(at,
+           std::to_string(v) + " is outside " + std::to_string(min) + " ~ " + std::to_string(max));
+    }
+    return v;
+  }
+
+  PortConfig parse_port(const json& value, const std::string& at) {
+    object(value, at, {"name", "link", "servos", "description"});
+    PortConfig port;
+    port.name = string(member(value, at, "name"), at + "/name");
+    // Port names appear in logs, traces and (later) control-API requests: keep them plain.
+    const bool plain = std::all_of(port.name.begin(), port.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.' || c == '-';
+    });
+    if (!plain || port.name.size() > kMaxPortName) {
+      fail(at + "/name", "must be 1 to 32 letters, digits, '_', '.' or '-'");
+    }
+    if (value.contains("link")) {
+      port.link = string(value["link"], at + "/link");
+    }
+    const json& servos = member(value, at, "servos");
+    if (!servos.is_array()) {
+      fail(at + "/servos", "must be an array of servos");
+    }
+    for (std::size_t i = 0; i < servos.size(); ++i) {
+      const std::string servo_at = at + "/servos/" + std::to_string(i);
+      for (ServoConfig& servo : parse_servo(servos[i], servo_at)) {
+        port.servos.push_back(std::move(servo));
+      }
+    }
+    return port;
+  }
+
+  // One entry of "servos": a servo, or several of one model with "ids".
+  std::vector<ServoConfig> parse_servo(const json& value, const std::string& at) {
+    object(value, at, {"model", "id", "ids", "baud", "protocol", "items", "description"});
+    const std::string name = string(member(value, at, "model"), at + "/model");
+    const auto spec = library_.find(name);
+    if (!spec) {
+      fail(at + "/model", "unknown model \"" + name + "\" (dxlemu models lists them)");
+    }
+    std::vector<std::uint8_t> ids;
+    if (value.contains("id") == value.contains("ids")) {
+      fail(at, "needs exactly one of \"id\" and \"ids\"");
+    }
+    if (value.contains("id")) {
+      ids.push_back(static_cast<std::uint8_t>(integer(value["id"], at + "/id", 0, kMaxServoId)));
+    } else {
+      const json& list = value["ids"];
+      if (!list.is_array() || list.empty()) {
+        fail(at + "/ids", "must be a non-empty array of IDs");
+      }
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        ids.push_back(static_cast<std::uint8_t>(
+            integer(list[i], at + "/ids/" + std::to_string(i), 0, kMaxServoId)));
+      }
+    }
+    std::vector<std::pair<std::string, std::int64_t>> items;
+    // The shorthands first, so that an explicit item override wins.
+    if (value.contains("baud")) {
+      const auto bps = integer(value["baud"], at + "/baud", 1, UINT32_MAX);
+      try {
+        items.emplace_back("baud_rate",
+                           baud_rate_item_value(*spec, static_cast<std::uint32_t>(bps)));
+      } catch (const std::invalid_argument& e) {
+        fail(at + "/baud", e.what());
+      }
+    }
+    if (value.contains("protocol")) {
+      const auto protocol = integer(value["protocol"], at + "/protocol", 1, 2);
+      try {
+        if (auto item = protocol_item(*spec, static_cast<int>(protocol))) {
+          items.push_back(std::move(*item));
+        }
+      } catch (const std::invalid_argument& e) {
+        fail(at + "/protocol", e.what());
+      }
+    }
+    if (value.contains("items")) {
+      const json& overrides = value["items"];
+      if (!overrides.is_object()) {
+        fail(at + "/items", "must be an object of item keys and values");
+      }
+      for (const auto& [key, v] : overrides.items()) {
+        const std::string item_at = at + "/items/" + pointer_token(key);
+        if (!v.is_number_integer()) {
+          fail(item_at, "must be an integer");
+        }
+        items.emplace_back(key, v.get<std::int64_t>());
+        try {
+          check_servo({name, ids.front(), {items.back()}}, library_);
+        } catch (const std::invalid_argument& e) {
+          fail(item_at, e.what());
+        }
+      }
+    }
+    std::vector<ServoConfig> out;
+    out.reserve(ids.size());
+    for (const std::uint8_t id : ids) {
+      out.push_back({name, id, items});
+    }
+    return out;
+  }
+
+  std::string origin_;
+  const ModelLibrary& library_;
+};
+
+}  // namespace
+
+BusConfig parse_config(const std::string& text, const std::string& origin,
+                       const ModelLibrary& library) {
+  return ConfigParser(origin, library).parse(text);
+}
+
+BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& library) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ConfigError(path.string(), "", "cannot be read");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_config(text.str(), path.string(), library);
+}
+
+std::int64_t baud_rate_item_value(const model::ModelSpec& spec, std::uint32_t bps) {
+  std::string offered;
+  for (const auto& b : spec.baud_rates) {
+    if (b.bps == bps) {
+      return b.index;
+    }
+    offered += (offered.empty() ? "" : ", ") + std::to_string(b.bps);
+  }
+  throw std::invalid_argument(spec.name + " cannot do " + std::to_string(bps) + " bps (it offers " +
+                              offered + ")");
+}
+
+std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::ModelSpec& spec,
+                                                                  int protocol) {
+  for (const char* key : {"protocol_type", "protocol_version"}) {
+    if (spec.find(key) != nullptr) {
+      return std::pair<std::string, std::int64_t>{key, protocol};
+    }
+  }
+  if (static_cast<int>(spec.protocols.front()) != protocol) {
+    throw std::invalid_argument(spec.name + " cannot speak protocol " + std::to_string(protocol));
+  }
+  return std::nullopt;
+}
+
+void check_servo(const ServoConfig& servo, const ModelLibrary& library) {
+  const auto spec = library.find(servo.model);
+  if (!spec) {
+    throw std::invalid_argument("unknown model \"" + servo.model + "\" (dxlemu models lists them)");
+  }
+  for (const auto& [key, value] : servo.items) {
+    const model::ItemSpec* item = spec->find(key);
+    if (item == nullptr) {
+      throw std::invalid_argument(servo.model + " has no item \"" + key + "\"");
+    }
+    if (item->access == model::Access::ReadOnly) {
+      throw std::invalid_argument(servo.model + " " + key + " is read-only");
+    }
+    if (!item->in_range(value)) {
+      throw std::invalid_argument(servo.model + " " + key + " " + std::to_string(value) +
+                                  " is outside its range " + std::to_string(item->min) + " ~ " +
+                                  std::to_string(item->max));
+    }
+  }
+}
+
+}  // namespace dxlemu::app

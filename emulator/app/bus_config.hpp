@@ -1,0 +1,70 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/model_library.hpp"
+#include "model/model_error.hpp"
+
+namespace dxlemu::app {
+
+/// One servo of a port: a model from the library, its ID, and items to set at power-on (by key,
+/// e.g. baud_rate, return_delay_time, protocol_type), as if written before the emulator started.
+struct ServoConfig {
+  std::string model;
+  std::uint8_t id = 1;
+  /// Item values in the order they are applied (raw item values, as the control table holds them).
+  std::vector<std::pair<std::string, std::int64_t>> items;
+  bool operator==(const ServoConfig&) const = default;
+};
+
+/// One port: a PTY with an optional stable symlink, and its servos in bus order.
+struct PortConfig {
+  std::string name;
+  std::optional<std::filesystem::path> link;
+  std::vector<ServoConfig> servos;
+  bool operator==(const PortConfig&) const = default;
+};
+
+/// Everything `dxlemu run` serves: one or more ports.
+struct BusConfig {
+  std::vector<PortConfig> ports;
+  bool operator==(const BusConfig&) const = default;
+};
+
+/// A config the emulator refuses. what() reads "FILE: POINTER: REASON", as for model files.
+class ConfigError : public model::ModelError {
+ public:
+  using ModelError::ModelError;
+};
+
+/// Parses and validates a bus config (format: docs/config.md) against `library`: every model
+/// exists, every item override names an item of that model, is writable and in range, baud and
+/// protocol shorthands are possible on the model. `origin` names the file in errors. Throws
+/// ConfigError naming the JSON pointer of the first problem.
+BusConfig parse_config(const std::string& text, const std::string& origin,
+                       const ModelLibrary& library);
+
+/// Reads and parses the config file `path`; ConfigError also when it cannot be read.
+BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& library);
+
+/// The Baud Rate item value that selects `bps` on `spec`. Throws std::invalid_argument naming
+/// the rates the model offers.
+std::int64_t baud_rate_item_value(const model::ModelSpec& spec, std::uint32_t bps);
+
+/// The item override that makes `spec` speak `protocol` (1 or 2): Protocol Type, or Protocol
+/// Version on MX-64/106(2.0); nothing for a model that only speaks `protocol`. Throws
+/// std::invalid_argument for a model that cannot speak it.
+std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::ModelSpec& spec,
+                                                                  int protocol);
+
+/// Checks `servo` against `library`: the model exists and every item override names a writable
+/// item of it and lies in that item's range. Throws std::invalid_argument with the reason (for
+/// servos built from command-line options; parse_config checks the same with JSON pointers).
+void check_servo(const ServoConfig& servo, const ModelLibrary& library);
+
+}  // namespace dxlemu::app

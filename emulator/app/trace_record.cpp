@@ -1,0 +1,100 @@
+#include "app/trace_record.hpp"
+
+#include "wire/describe.hpp"
+#include "wire/framer.hpp"
+#include "wire/hex.hpp"
+#include "wire/instruction_decoder.hpp"
+
+namespace dxlemu::app {
+namespace {
+
+using nlohmann::ordered_json;
+
+constexpr double kNsPerSecond = 1e9;
+
+ordered_json record(const std::string& port, sim::SimTime at, const char* direction,
+                    wire::Protocol protocol) {
+  return {{"t", static_cast<double>(sim::ns_since_start(at)) / kNsPerSecond},
+          {"port", port},
+          {"dir", direction},
+          {"protocol", static_cast<int>(protocol)}};
+}
+
+const char* failure_name(wire::FramingErrorKind kind) {
+  switch (kind) {
+    case wire::FramingErrorKind::Garbage:
+      return "garbage";
+    case wire::FramingErrorKind::BadCheck:
+      return "bad_check";
+    case wire::FramingErrorKind::ImpossibleLength:
+      return "impossible_length";
+    case wire::FramingErrorKind::Truncated:
+      return "truncated";
+  }
+  return "unknown";
+}
+
+// The describe() text of one status frame (or a Fast reply, whose block lengths only the
+// request knows), or why it does not decode.
+std::string status_text(const wire::Frame& frame) {
+  constexpr std::uint8_t kStatusInstruction = 0x55;
+  if (frame.protocol == wire::Protocol::V2 && frame.id == wire::kBroadcastId &&
+      frame.instruction == kStatusInstruction) {
+    return "id=254 fast_reply";
+  }
+  const auto status = wire::decode_status(frame);
+  if (const auto* error = std::get_if<wire::DecodeError>(&status)) {
+    return "undecodable status: " + error->reason;
+  }
+  return wire::describe(std::get<wire::StatusPacket>(status));
+}
+
+}  // namespace
+
+ordered_json heard_record(const std::string& port, const wire::FramerEvent& event) {
+  if (const auto* failure = std::get_if<wire::FramingError>(&event)) {
+    ordered_json out = record(port, failure->at, "in", failure->protocol);
+    out["problem"] = failure_name(failure->kind);
+    out["bytes"] = failure->bytes;
+    if (failure->id) {
+      out["id"] = *failure->id;
+    }
+    return out;
+  }
+  const auto& frame = std::get<wire::Frame>(event);
+  ordered_json out = record(port, frame.last_byte_at, "in", frame.protocol);
+  out["id"] = frame.id;
+  out["hex"] = wire::to_hex(frame.raw);
+  const auto decoded = wire::decode_instruction(frame);
+  if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
+    out["problem"] = error->reason;
+  } else {
+    out["packet"] = wire::describe(std::get<wire::InstructionPacket>(decoded));
+  }
+  return out;
+}
+
+ordered_json sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
+                         sim::SimTime at, wire::Protocol protocol) {
+  ordered_json out = record(port, at, "out", protocol);
+  out["hex"] = wire::to_hex(bytes);
+  // One delivery holds one packet, except where replies collided or a Fast reply was cut short:
+  // say what the client would make of the bytes.
+  wire::Framer framer(protocol);
+  std::vector<wire::FramerEvent> events;
+  framer.feed(bytes, at, events);
+  std::string text;
+  for (const auto& event : events) {
+    if (const auto* frame = std::get_if<wire::Frame>(&event)) {
+      text += (text.empty() ? "" : "; ") + status_text(*frame);
+    }
+  }
+  if (text.empty()) {
+    out["problem"] = "not a complete packet (colliding or cut-short replies)";
+  } else {
+    out["packet"] = text;
+  }
+  return out;
+}
+
+}  // namespace dxlemu::app

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Runs CPack's DEB generator on the build directory's CPackConfig.cmake into a temporary directory
+# and checks the package's name, version, dependencies and contents. Skips (exit 77) without
+# dpkg-deb. Usage: cpack_test.sh CPACK BUILD_DIR VERSION
+set -uo pipefail
+cpack=${1:?cpack}
+build=${2:?build directory}
+version=${3:?version}
+
+command -v dpkg-deb >/dev/null 2>&1 || {
+  echo "skipped: no dpkg-deb"
+  exit 77
+}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() {
+  echo "FAIL: $*"
+  exit 1
+}
+
+"$cpack" -G DEB --config "$build/CPackConfig.cmake" -B "$tmp" >"$tmp/cpack.log" 2>&1 ||
+  fail "cpack -G DEB: $(cat "$tmp/cpack.log")"
+debs=("$tmp"/*.deb)
+[ ${#debs[@]} -eq 1 ] && [ -f "${debs[0]}" ] || fail "expected one .deb in $tmp: $(ls "$tmp")"
+deb=${debs[0]}
+
+fields=$(dpkg-deb -f "$deb") || fail "dpkg-deb -f $deb"
+grep -qx "Package: dxlemu" <<<"$fields" || fail "control fields:"$'\n'"$fields"
+grep -qx "Version: $version" <<<"$fields" || fail "not version $version:"$'\n'"$fields"
+grep -qE "^Depends: .*libc6" <<<"$fields" || fail "no Depends on libc6:"$'\n'"$fields"
+grep -qE "^Maintainer: .+ <.+>$" <<<"$fields" || fail "no Maintainer NAME <EMAIL>:"$'\n'"$fields"
+
+contents=$(dpkg-deb -c "$deb") || fail "dpkg-deb -c $deb"
+for path in ./usr/bin/dxlemu ./usr/share/dxlemu/models/catalog.json \
+  ./usr/share/dxlemu/models/xm430-w350.json ./usr/share/dxlemu/models/schema/model.schema.json \
+  ./usr/share/doc/dxlemu/README.md; do
+  grep -qE " $path\$" <<<"$contents" || fail "$path not in the package:"$'\n'"$contents"
+done
+# The executable is the only file in usr/bin; nothing else (tests, fuzzers, libraries) ships.
+others=$(grep -E '^-' <<<"$contents" | grep -vE ' ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)')
+[ -z "$others" ] || fail "unexpected files in the package:"$'\n'"$others"
+
+echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu and the model library"

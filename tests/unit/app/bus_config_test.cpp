@@ -1,0 +1,144 @@
+// Bus configs (docs/config.md): what a valid file builds, and that every mistake is refused with
+// the file, the JSON pointer and the reason.
+#include <catch2/catch.hpp>
+
+#include "app/bus_config.hpp"
+
+using namespace dxlemu;
+using app::ConfigError;
+using app::parse_config;
+
+namespace {
+
+const app::ModelLibrary& library() {
+  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
+  return lib;
+}
+
+app::BusConfig parse(const std::string& text) {
+  return parse_config(text, "bus.json", library());
+}
+
+// The message parse_config refuses `text` with.
+std::string refusal(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// A config of one port named a whose servo list is `servos`.
+std::string one_port(const std::string& servos) {
+  return R"({"ports":[{"name":"a","servos":[)" + servos + "]}]}";
+}
+
+}  // namespace
+
+TEST_CASE("A config builds its ports in order, servos in bus order, with their overrides",
+          "[app][config]") {
+  const auto config = parse(R"({
+    "description": "two arms",
+    "ports": [
+      {"name": "arm", "link": "/tmp/arm", "servos": [
+        {"model": "xm430-w350", "ids": [3, 1], "items": {"return_delay_time": 0}},
+        {"model": "ax-12a", "id": 7, "baud": 57600, "description": "gripper"}
+      ]},
+      {"name": "legs", "servos": []}
+    ]})");
+  REQUIRE(config.ports.size() == 2);
+  const auto& arm = config.ports[0];
+  CHECK(arm.name == "arm");
+  CHECK(arm.link == std::filesystem::path("/tmp/arm"));
+  REQUIRE(arm.servos.size() == 3);
+  CHECK(arm.servos[0] == app::ServoConfig{"xm430-w350", 3, {{"return_delay_time", 0}}});
+  CHECK(arm.servos[1] == app::ServoConfig{"xm430-w350", 1, {{"return_delay_time", 0}}});
+  // AX-12A Baud Rate item value 34 is 57600 bps in its model file.
+  CHECK(arm.servos[2].id == 7);
+  CHECK(arm.servos[2].items ==
+        std::vector<std::pair<std::string, std::int64_t>>{{"baud_rate", 34}});
+  CHECK(config.ports[1].name == "legs");
+  CHECK(!config.ports[1].link);
+  CHECK(config.ports[1].servos.empty());
+}
+
+TEST_CASE("The protocol shorthand sets Protocol Type and an explicit item wins over a shorthand",
+          "[app][config]") {
+  const auto config = parse(one_port(
+      R"({"model": "xm430-w350", "id": 1, "protocol": 1, "baud": 1000000,
+          "items": {"baud_rate": 4}})"));
+  CHECK(config.ports[0].servos[0].items ==
+        std::vector<std::pair<std::string, std::int64_t>>{
+            {"baud_rate", 3}, {"protocol_type", 1}, {"baud_rate", 4}});
+}
+
+TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointer and the reason",
+          "[app][config]") {
+  using Case = std::pair<std::string, std::string>;
+  const std::vector<Case> cases = {
+      {"{", "bus.json: /: not valid JSON"},
+      {"[]", "bus.json: /: must be an object"},
+      {R"({"ports": []})", "bus.json: /ports: must be a non-empty array of ports"},
+      {R"({"ports": [{"name": "a", "servos": []}], "port": 1})",
+       "bus.json: /port: unknown field (allowed: ports, description)"},
+      {R"({"ports": [{"servos": []}]})", "bus.json: /ports/0/name: is required"},
+      {R"({"ports": [{"name": "a b", "servos": []}]})",
+       "bus.json: /ports/0/name: must be 1 to 32 letters"},
+      {R"({"ports": [{"name": "a", "servos": []}, {"name": "a", "servos": []}]})",
+       "bus.json: /ports/1/name: port name \"a\" is used twice"},
+      {R"({"ports": [{"name": "a", "link": "/tmp/x", "servos": []},
+                     {"name": "b", "link": "/tmp//x", "servos": []}]})",
+       "bus.json: /ports/1/link: link /tmp//x is used twice"},
+      {R"({"ports": [{"name": "a", "link": 3, "servos": []}]})",
+       "bus.json: /ports/0/link: must be a non-empty string"},
+      {R"({"ports": [{"name": "a", "servos": {}}]})",
+       "bus.json: /ports/0/servos: must be an array of servos"},
+      {one_port(R"({"model": "xm999", "id": 1})"),
+       "bus.json: /ports/0/servos/0/model: unknown model \"xm999\""},
+      {one_port(R"({"model": "xm430-w350"})"),
+       "bus.json: /ports/0/servos/0: needs exactly one of \"id\" and \"ids\""},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "ids": [2]})"),
+       "bus.json: /ports/0/servos/0: needs exactly one of \"id\" and \"ids\""},
+      {one_port(R"({"model": "xm430-w350", "id": 253})"),
+       "bus.json: /ports/0/servos/0/id: 253 is outside 0 ~ 252"},
+      {one_port(R"({"model": "xm430-w350", "id": "1"})"),
+       "bus.json: /ports/0/servos/0/id: must be an integer"},
+      {one_port(R"({"model": "xm430-w350", "ids": [1, -1]})"),
+       "bus.json: /ports/0/servos/0/ids/1: -1 is outside 0 ~ 252"},
+      {one_port(R"({"model": "xm430-w350", "ids": []})"),
+       "bus.json: /ports/0/servos/0/ids: must be a non-empty array of IDs"},
+      {one_port(R"({"model": "ax-12a", "id": 1, "baud": 4500000})"),
+       "bus.json: /ports/0/servos/0/baud: ax-12a cannot do 4500000 bps (it offers 1000000"},
+      {one_port(R"({"model": "xl-320", "id": 1, "protocol": 1})"),
+       "bus.json: /ports/0/servos/0/protocol: xl-320 cannot speak protocol 1"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "protocol": 3})"),
+       "bus.json: /ports/0/servos/0/protocol: 3 is outside 1 ~ 2"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"speed": 3}})"),
+       "bus.json: /ports/0/servos/0/items/speed: xm430-w350 has no item \"speed\""},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"a/b~": 3}})"),
+       "bus.json: /ports/0/servos/0/items/a~1b~0: xm430-w350 has no item \"a/b~\""},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"model_number": 3}})"),
+       "bus.json: /ports/0/servos/0/items/model_number: xm430-w350 model_number is read-only"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"return_delay_time": 300}})"),
+       "bus.json: /ports/0/servos/0/items/return_delay_time: xm430-w350 return_delay_time 300 "
+       "is outside its range 0 ~ 254"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"id": 1.5}})"),
+       "bus.json: /ports/0/servos/0/items/id: must be an integer"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "colour": "red"})"),
+       "bus.json: /ports/0/servos/0/colour: unknown field"},
+  };
+  for (const auto& [text, message] : cases) {
+    INFO(text);
+    CHECK_THAT(refusal(text), Catch::StartsWith(message));
+  }
+}
+
+TEST_CASE("An unreadable config file is refused naming it", "[app][config]") {
+  try {
+    app::read_config("/nonexistent/bus.json", library());
+    FAIL("accepted");
+  } catch (const ConfigError& e) {
+    CHECK(std::string(e.what()) == "/nonexistent/bus.json: /: cannot be read");
+  }
+}
