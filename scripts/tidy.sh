@@ -5,7 +5,7 @@ set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$repo_root"
 [ -f build/compile_commands.json ] || configure_and_build build -DCMAKE_BUILD_TYPE=RelWithDebInfo
-mapfile -t files < <(find emulator tests/unit tests/support -type f -name '*.cpp' | sort)
+mapfile -t files < <(find emulator tests/unit tests/support bench -type f -name '*.cpp' | sort)
 # One clang-tidy per file, as many at once as there are cores.
 out=$(printf '%s\0' "${files[@]}" |
   xargs -0 -n 1 -P "$jobs" clang-tidy -p build --quiet 2>/dev/null | grep -E '(warning|error):' || true)

@@ -59,6 +59,8 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     ports_.push_back(std::move(port));
   }
   restore(state);
+  // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
+  driver_.set_after_events([this] { save_state_if_changed(); });
 }
 
 Emulator::~Emulator() = default;

@@ -1,13 +1,32 @@
 #include "io/realtime_driver.hpp"
 
+#include <sys/prctl.h>
+
 namespace dxlemu::io {
+namespace {
+
+// Linux lets a sleeping thread's timer wake-ups be late by its "timer slack" (50 µs by default),
+// to batch them and save power. Replies are modelled to the ns and their timer is the only one we
+// arm, so ask for the least: 1 ns (0 would mean "back to the default").
+constexpr unsigned long kTimerSlackNs = 1;
+
+}  // namespace
 
 RealTimeDriver::RealTimeDriver(boost::asio::io_context& io, sim::Scheduler& scheduler, Pace pace)
-    : scheduler_(scheduler), pace_(pace), timer_(io), start_(std::chrono::steady_clock::now()) {}
+    : scheduler_(scheduler), pace_(pace), timer_(io), start_(std::chrono::steady_clock::now()) {
+  // Per thread: this is the thread that runs io (the daemon has one). Best effort: a kernel that
+  // refuses leaves the default, which costs precision, not correctness.
+  prctl(PR_SET_TIMERSLACK, kTimerSlackNs, 0, 0, 0);
+}
 
 sim::SimTime RealTimeDriver::wall_now() const {
   return sim::SimTime{
       std::chrono::duration_cast<sim::SimDuration>(std::chrono::steady_clock::now() - start_)};
+}
+
+std::chrono::steady_clock::time_point RealTimeDriver::to_steady(sim::SimTime t) const {
+  return start_ +
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(t.time_since_epoch());
 }
 
 void RealTimeDriver::catch_up() {
@@ -20,16 +39,42 @@ void RealTimeDriver::rearm() {
     timer_.cancel();  // in manual time a future event waits for the clock to be stepped
     return;
   }
-  // Manual time: the deadline is the present, and the timer (set in the past) fires at once.
-  timer_.expires_at(start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 deadline->time_since_epoch()));
+  // Manual time: the deadline is the present (simulated time may be ahead of the wall clock once
+  // it has been stepped), so the timer fires at once. Wall-clock time: wake kSpinWindow early and
+  // spin the rest (spin_to_deadline).
+  timer_.expires_at(pace_ == Pace::Manual ? std::chrono::steady_clock::now()
+                                          : to_steady(*deadline) - kSpinWindow);
   timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec) {
       return;  // re-armed or shut down
     }
+    spin_to_deadline();
     catch_up();
+    if (after_events_) {
+      after_events_();
+    }
     rearm();
   });
+}
+
+void RealTimeDriver::spin_to_deadline() const {
+  if (pace_ != Pace::WallClock) {
+    return;
+  }
+  // The deadline is read again rather than remembered: a wake-up that was already queued when an
+  // event was cancelled or added must not spin for a deadline that is gone. Only a deadline at
+  // most kSpinWindow away is waited for here; a later one gets the timer again (rearm).
+  const auto deadline = scheduler_.next_deadline();
+  if (!deadline) {
+    return;
+  }
+  const auto due = to_steady(*deadline);
+  if (due - std::chrono::steady_clock::now() > kSpinWindow) {
+    return;
+  }
+  while (std::chrono::steady_clock::now() < due) {
+    // Busy-wait: at most kSpinWindow, and only with an event due.
+  }
 }
 
 }  // namespace dxlemu::io
