@@ -13,8 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kMaxServoId = 252;
-constexpr std::size_t kMaxPortName = 32;  // 253 (0xFD) and up are not servo IDs in either protocol
+constexpr std::size_t kMaxPortName = 32;
 
 // RFC 6901: "~" and "/" inside a reference token are escaped.
 std::string pointer_token(const std::string& key) {

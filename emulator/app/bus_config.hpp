@@ -12,6 +12,9 @@
 
 namespace dxlemu::app {
 
+/// The highest ID a servo may be given (0xFD and up are not servo IDs in either protocol).
+inline constexpr int kMaxServoId = 252;
+
 /// One servo of a port: a model from the library, its ID, and items to set at power-on (by key,
 /// e.g. baud_rate, return_delay_time, protocol_type), as if written before the emulator started.
 struct ServoConfig {

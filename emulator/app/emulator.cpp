@@ -22,7 +22,13 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     : options_(options),
       driver_(io_, scheduler_,
               options.timing == TimingMode::Manual ? io::Pace::Manual : io::Pace::WallClock) {
-  // Everything that can be refused is checked before the first PTY opens.
+  // What can be refused is checked before the first PTY opens, except the state's values, which
+  // need the servos; a refusal then unwinds every port (links removed) before any readiness line.
+  for (const PortConfig& port_config : config.ports) {
+    for (const ServoConfig& servo : port_config.servos) {
+      check_servo(servo, library);
+    }
+  }
   const BusState state = options_.state ? read_state(*options_.state) : BusState{};
   if (options_.trace) {
     trace_.open(*options_.trace, std::ios::trunc);
@@ -39,7 +45,6 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
     for (const ServoConfig& servo : port_config.servos) {
-      check_servo(servo, library);
       model::Servo& added =
           port->bus->add_servo(std::make_unique<model::Servo>(library.find(servo.model), servo.id));
       for (const auto& [key, value] : servo.items) {
@@ -98,7 +103,7 @@ void Emulator::save_state_if_changed() {
       images.push_back(eeprom_image(servo->table()));
     }
   }
-  if (images == saved_eeprom_ && std::filesystem::exists(*options_.state)) {
+  if (images == saved_eeprom_) {  // empty at first: the first call always writes
     return;
   }
   BusState state;

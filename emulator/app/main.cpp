@@ -4,6 +4,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 
 #include "app/bus_config.hpp"
 #include "app/emulator.hpp"
@@ -20,7 +21,6 @@ constexpr int kExitBadInput = 2;
 // The default bus (README): three XM430-W350 at factory settings, IDs 1 to 3, on dxl0.
 constexpr const char* kDefaultServos = "xm430-w350:1-3";
 constexpr const char* kDefaultLink = "/tmp/dxlemu-dxl0";
-constexpr int kMaxServoId = 252;
 
 // --timing names (docs/timing.md).
 const std::map<std::string, dxlemu::app::TimingMode> kTimingModes = {
@@ -55,7 +55,7 @@ std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text
   } catch (const std::exception&) {
     throw std::invalid_argument("--servo " + text + ": the ID part must be a number or FIRST-LAST");
   }
-  if (first < 0 || last > kMaxServoId || first > last) {
+  if (first < 0 || last > dxlemu::app::kMaxServoId || first > last) {
     throw std::invalid_argument("--servo " + text + ": IDs must lie in 0 ~ 252, first <= last");
   }
   std::vector<dxlemu::app::ServoConfig> out;

@@ -41,6 +41,8 @@ import time
 
 import serial
 
+from dxl_client import crc16  # the one CRC-16 of the tests; the SDK computes the same
+
 LATENCY_TIMER = 16  # ms, port_handler.py
 DEFAULT_BAUDRATE = 1000000
 SDK_BAUDRATES = (9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, 576000, 921600,
@@ -151,16 +153,6 @@ class PortHandler:
 # Protocol 2.0 packet offsets (protocol2_packet_handler.py)
 P2_ID, P2_LENGTH_L, P2_LENGTH_H, P2_INSTRUCTION, P2_ERROR, P2_PARAMETER0 = 4, 5, 6, 7, 8, 8
 TXPACKET_MAX_LEN = RXPACKET_MAX_LEN = 1024
-
-
-def crc16(data):
-    crc = 0
-    for b in data:
-        crc ^= b << 8
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x8005) if crc & 0x8000 else (crc << 1)
-            crc &= 0xFFFF
-    return crc
 
 
 class Protocol2PacketHandler:
