@@ -360,3 +360,39 @@ TEST_CASE("Immediate reply timing answers at once, in the same order with the sa
   }
   CHECK(test::status_text(now[3].bytes) == "id=3 error=0x00 params=03");
 }
+
+TEST_CASE("The line observer sees every packet heard and every delivery, but not garbage",
+          "[bus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  std::vector<std::string> seen;
+  rig.bus.set_observer(
+      {[&](const wire::FramerEvent& event) {
+         if (const auto* frame = std::get_if<wire::Frame>(&event)) {
+           seen.push_back("heard id=" + std::to_string(frame->id));
+         } else {
+           seen.push_back("heard failure");
+         }
+       },
+       [&](std::span<const std::uint8_t> bytes, sim::SimTime at, Protocol protocol) {
+         CHECK(protocol == Protocol::V2);
+         seen.push_back("sent " + test::status_text({bytes.begin(), bytes.end()}) + " at " +
+                        std::to_string(ns_since_start(at)));
+       }});
+  const Bytes noise = {0x12, 0x34};
+  rig.bus.receive(noise, rig.scheduler.now(), BusRig::kBaud);
+  rig.send({Protocol::V2, 1, wire::Write{65, {1}}});
+  rig.send({Protocol::V2, 1, wire::Ping{}});  // collides with the Write's status: not sent
+  rig.run();
+  auto damaged = wire::encode_instruction({Protocol::V2, 1, wire::Ping{}});
+  damaged.back() ^= 0xFF;
+  rig.bus.receive(damaged, rig.scheduler.now(), BusRig::kBaud);
+  rig.run();
+  REQUIRE(seen.size() == 5);
+  CHECK(seen[0] == "heard id=1");
+  CHECK(seen[1] == "heard id=1");
+  CHECK(seen[2] == "sent id=1 error=0x00 params=FC 03 2D at " +
+                       std::to_string(ns_since_start(rig.link.deliveries()[0].at)));
+  CHECK(seen[3] == "heard failure");
+  CHECK(seen[4].rfind("sent id=1 error=0x03", 0) == 0);  // CRC Error
+}
