@@ -371,7 +371,7 @@ TEST_CASE("The line observer sees every packet heard and every delivery, but not
          if (const auto* frame = std::get_if<wire::Frame>(&event)) {
            seen.push_back("heard id=" + std::to_string(frame->id));
          } else {
-           seen.push_back("heard failure");
+           seen.emplace_back("heard failure");
          }
        },
        [&](std::span<const std::uint8_t> bytes, sim::SimTime at, Protocol protocol) {
