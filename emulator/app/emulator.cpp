@@ -136,8 +136,8 @@ void Emulator::run(std::ostream& out) {
       save_state_if_changed();
     });
     nlohmann::ordered_json servos = nlohmann::ordered_json::array();
-    for (const ServoConfig& s : port->config.servos) {
-      servos.push_back({{"id", s.id}, {"model", s.model}});
+    for (const auto& servo : bus.servos()) {  // the IDs in force: a state file may change them
+      servos.push_back({{"id", servo->id()}, {"model", servo->spec().name}});
     }
     nlohmann::ordered_json ready = {
         {"event", "ready"}, {"port", port->config.name}, {"pty", port->pty->slave_path()}};

@@ -237,7 +237,8 @@ class DaemonTest(unittest.TestCase):
         daemon.proc.send_signal(signal.SIGKILL)
         daemon.proc.wait()
         os.unlink(self.link)  # a killed daemon cannot remove its link
-        self.start("--state", state)
+        ready = self.start("--state", state).ready
+        self.assertEqual([s["id"] for s in ready["servos"]], [1, 2, 30])
         port = Port(self.link)
         port.write(packet2(0xFE, PING))
         self.assertEqual([port.status2()[0] for _ in range(3)], [1, 2, 30])
