@@ -15,6 +15,12 @@
 
 namespace dxlemu::test {
 
+/// The broadcast ID, short for the many group and broadcast packets of the bus tests.
+inline constexpr std::uint8_t kBroadcast = wire::kBroadcastId;
+/// XM430-W350 / XC330-T288 factory timing: processing 50 us, Return Delay Time 250 x 2 us.
+inline constexpr sim::SimDuration kXProcessing = std::chrono::microseconds(50);
+inline constexpr sim::SimDuration kXReturnDelay = std::chrono::microseconds(500);
+
 /// A bus of shipped models on a hand-advanced clock, recording what reaches the client.
 struct BusRig {
   static constexpr std::uint32_t kBaud = 57600;  // every shipped X model's factory rate

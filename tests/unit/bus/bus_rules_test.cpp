@@ -7,14 +7,9 @@
 using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
+using test::kBroadcast;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
-
-namespace {
-
-constexpr std::uint8_t kBroadcast = 0xFE;
-
-}  // namespace
 
 TEST_CASE("A Secondary ID group executes RAM writes silently and the ID keeps priority", "[bus]") {
   BusRig rig;

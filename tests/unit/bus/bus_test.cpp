@@ -7,19 +7,12 @@
 using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
+using test::kBroadcast;
+using test::kXProcessing;
+using test::kXReturnDelay;
 using test::line;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
-
-namespace {
-
-constexpr std::uint8_t kBroadcast = 0xFE;
-
-// XM430-W350 factory settings: processing 50 us, Return Delay Time 250 x 2 us.
-constexpr sim::SimDuration kXProcessing = 50us;
-constexpr sim::SimDuration kXReturnDelay = 500us;
-
-}  // namespace
 
 TEST_CASE("Line time is 10 bits per byte at the baud rate, rounded up to the nanosecond",
           "[bus][timing]") {

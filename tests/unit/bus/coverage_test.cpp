@@ -19,18 +19,16 @@
 using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
+using test::kBroadcast;
+using test::kXProcessing;
+using test::kXReturnDelay;
 using test::line;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
-constexpr std::uint8_t kBroadcast = 0xFE;
 constexpr std::uint32_t kOneMbps = 1'000'000;
-
-// XM430-W350 / XC330-T288 factory timing: processing 50 us, Return Delay Time 250 x 2 us.
-constexpr sim::SimDuration kXProcessing = 50us;
-constexpr sim::SimDuration kXReturnDelay = 500us;
 
 /// The client writes raw `bytes` now at `bps` (e.g. a packet printed by the e-Manual).
 std::size_t feed(BusRig& rig, const Bytes& bytes, std::uint32_t bps = BusRig::kBaud) {
