@@ -132,28 +132,128 @@ EXTERNAL_BAUD = {
             EMANUAL_INCLUDES + "control_table_8_baudrate_pro.md"),
 }
 
-# Motor specifications read from public e-Manual pages (the offline copies omit most
-# specification sections). Values at the recommended input voltage. Models not listed and
-# without a specification table on their page get no no_load_speed_rpm / stall_torque_nm.
+# Motor specifications read from public e-Manual sources (the offline copies omit most
+# specification sections), for models whose page has no Specifications table. Figures at the
+# voltage named (the recommended input voltage unless the source says otherwise); None where the
+# source states no such figure, and `missing` then says why. Models not listed and without a
+# specification table on their page get no no_load_speed_rpm / stall_torque_nm / stall_current_a.
+#
+# Where an English page could not be read, the figures come from the e-Manual's own data files:
+# `_data/dxl_x_info.yml` / `_data/dxl_mx_info.yml` of ROBOTIS-GIT/emanual hold the `stalltorque` and
+# `noloadspeed` strings that `_includes/en/dxl/specifications_x.md` renders, per page `ref`, as the
+# page's Specifications table (the figure at the recommended voltage is printed in bold there).
+EMANUAL_X_INFO = ("https://github.com/ROBOTIS-GIT/emanual/blob/00280385680aba081862d0854c95de523c6391e6/"
+                  "_data/dxl_x_info.yml")
+EMANUAL_MX_INFO = ("https://github.com/ROBOTIS-GIT/emanual/blob/0ba8ce0815a0d44d27f7f08bdd8100347d2b9234/"
+                   "_data/dxl_mx_info.yml")
+
+
+@dataclass(frozen=True)
+class MotorSpec:
+    rpm: float | None      # no-load speed [rev/min]
+    nm: float | None       # stall torque [N.m]
+    amps: float | None     # stall current [A]
+    volts: float           # the input voltage all three are stated at
+    source: str            # where they were read (URL and the quoted text)
+    missing: str = ""      # why a None figure is absent
+
+
+def x_info(key: str, torque: str, speed: str, page: str) -> str:
+    return (f"{EMANUAL_X_INFO}, key '{key}': stalltorque '{torque}', noloadspeed '{speed}' (the data the "
+            f"Specifications table of {page} is rendered from)")
+
+
+def mx_info(key: str, torque: str, speed: str) -> str:
+    return f"{EMANUAL_MX_INFO}, key '{key}': stalltorque '{torque}', noloadspeed '{speed}'"
+
+
+# The P and PRO pages state no stall figures at all: only no-load speed and current and the
+# continuous (rated) operating point, which is not a stall point.
+P_PRO_MISSING = ("stall_torque_nm and stall_current_a omitted: the e-Manual states no stall torque or stall "
+                 "current for this model, only the continuous operating point ('Continuous Speed {speed} "
+                 "[rev/min]', 'Continuous Torque {torque} [N.m]', 'Continuous Current {amps} [A]', 'calculated "
+                 "based on the specifications of the core motor'), which is a rated load, not a stall; no "
+                 "stated stall figure was found elsewhere")
+
 EXTERNAL_SPECS = {
-    "xm540-w150": (53, 7.3, "12.0", "https://emanual.robotis.com/docs/en/dxl/x/xm540-w150"),
-    "xm540-w270": (30, 10.6, "12.0", "https://emanual.robotis.com/docs/en/dxl/x/xm540-w270"),
-    "xw540-t260": (40, 9.5, "12.0", "https://emanual.robotis.com/docs/en/dxl/x/xw540-t260"),
-    "xh430-w350": (30, 3.4, "12.0", "https://emanual.robotis.com/docs/en/dxl/x/xh430-w350"),
-    "xc430-w150": (106, 1.6, "12.0", "https://emanual.robotis.com/docs/kr/dxl/x/xc430-w150 (Korean page)"),
-    "xc430-w240": (70, 1.9, "12", "https://emanual.robotis.com/docs/kr/dxl/x/xc430-w240/ (Korean page)"),
-    "2xl430-w250": (57, 1.4, "11.1", "https://emanual.robotis.com/docs/en/dxl/x/2xl430-w250/"),
-    "xl330-m288": (103, 0.52, "5.0", "https://emanual.robotis.com/docs/en/dxl/x/xl330-m288/"),
-    "xl330-m077": (383, 0.215, "5.0", "https://emanual.robotis.com/docs/en/dxl/x/xl330-m077/"),
-    "xc330-t288": (71, 1.00, "12.0", "the 'XC Series' comparison table on "
-                   "https://emanual.robotis.com/docs/kr/dxl/x/xl330-m288/ (the XC330-T288 page itself "
-                   "was not found; the highest listed voltage, 12.0 V, is used since the recommended "
-                   "voltage is not in that table)"),
-    "mx-28": (55, 2.5, "12", "https://emanual.robotis.com/docs/kr/dxl/mx/mx-28/ and the MX overview "
-              "https://emanual.robotis.com/docs/en/dxl/mx/ (same figures for MX-28 Protocol 1.0 and 2.0)"),
-    "mx-28-2": (55, 2.5, "12", "https://emanual.robotis.com/docs/en/dxl/mx/mx-28-2"),
-    "mx-106": (45, 8.4, "12", "https://emanual.robotis.com/docs/en/dxl/mx/mx-106"),
-    "mx-106-2": (45, 8.4, "12", "https://emanual.robotis.com/docs/en/dxl/mx/mx-106-2"),
+    "xm430-w350": MotorSpec(46, 4.1, 2.3, 12.0, x_info(
+        "xm430-w350", "**4.1 [N.m] (at 12.0 [V], 2.3 [A])**", "**46 [rev/min] (at 12.0 [V])**",
+        "https://emanual.robotis.com/docs/en/dxl/x/xm430-w350/") + "; an older revision of the page "
+        "(ROBOTIS-GIT/emanual docs/en/dxl/x/xm430-w350.md at 07fe860b) prints the same '4.1Nm @ 12.0V, 2.3A' "
+        "and '46rpm @ 12.0V' with 'Recommended : 12.0V'"),
+    "xm430-w210": MotorSpec(77, 3.0, 2.3, 12.0, x_info(
+        "xm430-w210", "**3.0 [N.m] (at 12.0 [V], 2.3 [A])**", "**77 [rev/min] (at 12.0 [V])**",
+        "https://emanual.robotis.com/docs/en/dxl/x/xm430-w210/")),
+    "xl430-w250": MotorSpec(57, 1.4, 1.3, 11.1, x_info(
+        "xl430-w250", "**1.4 [N.m] (at 11.1 [V], 1.3 [A])**", "**57 [rev/min] (at 11.1 [V])**",
+        "https://emanual.robotis.com/docs/en/dxl/x/xl430-w250/") + "; recommended input voltage 11.1 V"),
+    "xh430-w210": MotorSpec(50, 2.5, 1.3, 12.0, x_info(
+        "xh430-w210", "**2.5 [N.m] (at 12.0 [V], 1.3 [A])**", "**50 [rev/min] (at 12.0 [V])**",
+        "https://emanual.robotis.com/docs/en/dxl/x/xh430-w210/") + "; an older revision of the page "
+        "(ROBOTIS-GIT/emanual docs/en/dxl/x/xh430-w210.md at 00fc3614) prints the same '2.5Nm @ 12.0V, 1.3A' "
+        "and '50rpm @ 12.0V' (52 rev/min and 2.6 N.m are the 24 V XH430-V210's figures, not this model's)"),
+    "xh430-w350": MotorSpec(30, 3.4, 1.3, 12.0, "https://emanual.robotis.com/docs/en/dxl/x/xh430-w350; "
+                            "stall current from " + x_info(
+                                "xh430-w350", "**3.4 [N.m] (at 12.0 [V], 1.3 [A])**",
+                                "**30 [rev/min] (at 12.0 [V])**",
+                                "https://emanual.robotis.com/docs/en/dxl/x/xh430-w350/")),
+    "xh540-w150": MotorSpec(70, 7.1, 4.9, 12.0, x_info(
+        "xh540-w150", "7.1 [N.m] (at 12.0 [V], 4.9 [A])", "70 [rev/min]) (at 12.0 [V])",
+        "https://emanual.robotis.com/docs/en/dxl/x/xh540-w150/") + "; no entry is bold for this key, the "
+        "input voltage is 'Recommended : 12.0 [V]'"),
+    "xh540-w270": MotorSpec(39, 9.9, 4.9, 12.0, x_info(
+        "xh540-w270", "**9.9 [N.m] (at 12.0 [V], 4.9 [A])**", "**39 [rev/min] (at 12.0 [V])**",
+        "https://emanual.robotis.com/docs/en/dxl/x/xh540-w270/")),
+    "xm540-w150": MotorSpec(53, 7.3, 4.4, 12.0, "https://emanual.robotis.com/docs/en/dxl/x/xm540-w150 "
+                            "('7.3 [N.m] (at 12.0 [V], 4.4 [A], 1.659 [Nm/A])', '53 [rev/min] (at 12.0 [V])')"),
+    "xm540-w270": MotorSpec(30, 10.6, 4.4, 12.0, "https://emanual.robotis.com/docs/en/dxl/x/xm540-w270 "
+                            "('10.6 [N.m] (at 12.0 [V], 4.4 [A], 2.409 [Nm/A])', '30 [rev/min] (at 12.0 [V])')"),
+    "xw540-t260": MotorSpec(40, 9.5, 4.9, 12.0, "https://emanual.robotis.com/docs/en/dxl/x/xw540-t260 "
+                            "('9.5 [N.m] (at 12.0 [V], 4.9 [A], 1.939 [Nm/A])', '40 [rev/min] (at 12.0 [V])')"),
+    "xc430-w150": MotorSpec(106, 1.6, 1.4, 12.0, "https://emanual.robotis.com/docs/kr/dxl/x/xc430-w150 (Korean "
+                            "page: '1.6 [N.m] (at 12.0 [V], 1.4 [A], 1.143 [Nm/A])', '106 [rev/min] (at 12.0 [V])')"),
+    "xc430-w240": MotorSpec(70, 1.9, 1.4, 12.0, "https://emanual.robotis.com/docs/kr/dxl/x/xc430-w240/ (Korean "
+                            "page: '1.9 [N.m] (at 12.0 [V], 1.4 [A])', '70 [rev/min] (at 12.0 [V])')"),
+    "2xl430-w250": MotorSpec(57, 1.4, 1.3, 11.1, "https://emanual.robotis.com/docs/en/dxl/x/2xl430-w250/ "
+                             "('1.4 [N.m] (at 11.1 [V], 1.3 [A])', '57 [rev/min] (at 11.1 [V])', recommended "
+                             "11.1 V)"),
+    "xl330-m288": MotorSpec(103, 0.52, 1.47, 5.0, "https://emanual.robotis.com/docs/en/dxl/x/xl330-m288/; stall "
+                            "current from " + x_info(
+                                "xl330-m288", "**0.52 [N.m] (at 5.0 [V], 1.47 [A])**",
+                                "**103 [rev/min] (at 5.0 [V])**",
+                                "https://emanual.robotis.com/docs/en/dxl/x/xl330-m288/")),
+    "xl330-m077": MotorSpec(383, 0.215, 1.47, 5.0, "https://emanual.robotis.com/docs/en/dxl/x/xl330-m077/; stall "
+                            "current from " + x_info(
+                                "xl330-m077", "**0.215 [N.m] (at 5.0 [V], 1.47 [A])**",
+                                "**383 [rev/min] (at 5.0 [V])**",
+                                "https://emanual.robotis.com/docs/en/dxl/x/xl330-m077/")),
+    "xc330-t288": MotorSpec(71, 1.00, 0.88, 12.0, "the 'XC Series' comparison table on "
+                            "https://emanual.robotis.com/docs/kr/dxl/x/xl330-m288/ (the highest listed voltage, "
+                            "12.0 V, was used since the recommended voltage is not in that table); stall current from "
+                            + x_info("xc330-t288", "1.00 [N.m] (at 12.0 [V], 0.88 [A])",
+                                     "71 [rev/min] (at 12.0 [V])",
+                                     "https://emanual.robotis.com/docs/en/dxl/x/xc330-t288/")
+                            + ", which gives the recommended input voltage as 11.1 V (bold there: 0.92 N.m at "
+                            "11.1 V, 0.80 A, 65 rev/min); the 12.0 V figures chosen before are kept"),
+    "mx-28": MotorSpec(55, 2.5, 1.4, 12.0, "https://emanual.robotis.com/docs/kr/dxl/mx/mx-28/ and the MX overview "
+                       "https://emanual.robotis.com/docs/en/dxl/mx/ (same figures for MX-28 Protocol 1.0 and 2.0); "
+                       "stall current from " + mx_info("mx-28", "2.5 [Nm] @ 12 [V], 1.4 [A]",
+                                                       "55 [rev/min] @ 12 [V]")),
+    "mx-28-2": MotorSpec(55, 2.5, 1.4, 12.0, "https://emanual.robotis.com/docs/en/dxl/mx/mx-28-2; stall current "
+                         "from " + mx_info("mx-28-2", "2.5 [Nm] @ 12 [V], 1.4 [A]", "55 [rev/min] @ 12 [V]")),
+    "mx-106": MotorSpec(45, 8.4, 5.2, 12.0, "https://emanual.robotis.com/docs/en/dxl/mx/mx-106; stall current "
+                        "from " + mx_info("mx-106", "8.4 [Nm] @ 12[V], 5.2 [A]", "45 [rev/min] @ 12 [V]")),
+    "mx-106-2": MotorSpec(45, 8.4, 5.2, 12.0, "https://emanual.robotis.com/docs/en/dxl/mx/mx-106-2; stall "
+                          "current from " + mx_info("mx-106-2", "8.4 [Nm] @ 12[V], 5.2 [A]",
+                                                    "45 [rev/min] @ 12 [V]")),
+    "ph54-200-s500-r": MotorSpec(33.1, None, None, 24.0, "https://emanual.robotis.com/docs/en/dxl/p/ph54-200-s500-r/ "
+                                 "('No Load Speed 33.1 [rev/min]', 'Input Voltage 24.0 [V]'; the same in "
+                                 "ROBOTIS-GIT/emanual _data/dxl_p_info.yml)",
+                                 missing=P_PRO_MISSING.format(speed="29.0", torque="44.7", amps="9.3")),
+    "h54-200-s500-r": MotorSpec(33.1, None, None, 24.0, "https://emanual.robotis.com/docs/en/dxl/pro/h54-200-s500-r "
+                                "('No Load Speed 33.1 [rev/min]', 'Input Voltage 24.0 [V]'; the same in "
+                                "ROBOTIS-GIT/emanual _data/dxl_pro_info.yml)",
+                                missing=P_PRO_MISSING.format(speed="29.0", torque="44.7", amps="9.3")),
 }
 
 # Expected Indirect Address / Data blocks: (first n, last n, first address, first data address).
@@ -1260,6 +1360,7 @@ class ModelBuilder:
         if cur is not None:
             m["current_unit_ma"] = cur
         self.specs(m)
+        self.acceleration_unit(m)
         return m
 
     def velocity_unit(self) -> float:
@@ -1294,22 +1395,82 @@ class ModelBuilder:
         return None
 
     def specs(self, m: dict):
-        """no_load_speed_rpm / stall_torque_nm from the page's spec table, else EXTERNAL_SPECS."""
+        """no_load_speed_rpm / stall_torque_nm / stall_current_a / nominal_voltage_v from the page's
+        Specifications table, else EXTERNAL_SPECS."""
+        fields = "motion.no_load_speed_rpm / stall_torque_nm / stall_current_a / nominal_voltage_v"
         page_spec = parse_spec_table(self.page.lines)
         if page_spec:
-            rpm, nm, volts, detail = page_spec
-            m["no_load_speed_rpm"], m["stall_torque_nm"] = rpm, nm
-            self.notes.append(f"motion.no_load_speed_rpm / stall_torque_nm: {rpm} rev/min and {nm} N.m at {volts} V "
-                              f"from this page's Specifications table (control-tables/{self.name}.md){detail}")
+            ps = page_spec
+            m["no_load_speed_rpm"], m["stall_torque_nm"] = ps.rpm, ps.nm
+            if ps.amps is not None:
+                m["stall_current_a"] = ps.amps
+            if ps.volts is not None:
+                m["nominal_voltage_v"] = float(ps.volts)
+            amps = f", {ps.amps} A" if ps.amps is not None else ""
+            self.notes.append(f"{fields}: {ps.rpm} rev/min, {ps.nm} N.m{amps} at {ps.volts} V from this page's "
+                              f"Specifications table (control-tables/{self.name}.md: Stall Torque "
+                              f"'{ps.torque_text}', No Load Speed '{ps.speed_text}'){ps.detail}")
+            if ps.amps is None:
+                self.notes.append("motion.stall_current_a omitted: the page's Stall Torque row states no current")
             return
-        if self.name in EXTERNAL_SPECS:
-            rpm, nm, volts, url = EXTERNAL_SPECS[self.name]
-            m["no_load_speed_rpm"], m["stall_torque_nm"] = rpm, nm
-            self.notes.append(f"motion.no_load_speed_rpm / stall_torque_nm: {rpm} rev/min and {nm} N.m at {volts} V "
-                              f"(recommended input voltage) from the e-Manual specifications: {url}")
+        spec = EXTERNAL_SPECS.get(self.name)
+        if spec is None:
+            self.notes.append("motion: no_load_speed_rpm, stall_torque_nm, stall_current_a and nominal_voltage_v "
+                              "omitted: the specification section is not in the reference and no stated figure "
+                              "was found")
             return
-        self.notes.append("motion: no_load_speed_rpm and stall_torque_nm omitted: the specification section is not "
-                          "in the reference and no stated figure was found")
+        stated, keys = [], []
+        for key, value, unit in (("no_load_speed_rpm", spec.rpm, "rev/min"), ("stall_torque_nm", spec.nm, "N.m"),
+                                 ("stall_current_a", spec.amps, "A")):
+            if value is not None:
+                m[key] = value
+                stated.append(f"{value} {unit}")
+                keys.append(key)
+        m["nominal_voltage_v"] = float(spec.volts)
+        self.notes.append(f"motion.{' / '.join(keys + ['nominal_voltage_v'])}: {', '.join(stated)} at {spec.volts} V "
+                          f"from the e-Manual specifications: {spec.source}")
+        if spec.missing:
+            self.notes.append(f"motion: {spec.missing}")
+
+    def acceleration_unit(self, m: dict):
+        """acceleration_unit_rpm2: rev/min^2 per unit of Profile Acceleration, from its Unit column or,
+        on pages without one (MX(2.0)), the Unit row of its description section."""
+        item = self.by_key.get("profile_acceleration")
+        if item is None:
+            other = self.by_key.get("goal_acceleration")
+            extra = (f" (its Goal Acceleration({other.row.address}) is a different item, in '{other.unit}')"
+                     if other is not None and other.unit else "")
+            self.notes.append(f"motion.acceleration_unit_rpm2 omitted: the model has no Profile Acceleration "
+                              f"item{extra}")
+            return
+        accel = re.compile(r"([\d.,]+)\s*\[rev/min(?:²|2|\^2)\]")
+        if item.unit:
+            first = item.unit.split(" / ")[0]
+            mt = accel.fullmatch(first.strip())
+            if not mt:
+                self.notes.append(f"motion.acceleration_unit_rpm2 omitted: the Unit column of Profile Acceleration "
+                                  f"('{item.unit}') is not in rev/min²")
+                return
+            m["acceleration_unit_rpm2"] = float(mt.group(1).replace(",", ""))
+            self.notes.append(f"motion.acceleration_unit_rpm2: {m['acceleration_unit_rpm2']} rev/min² per unit "
+                              f"(Unit column of Profile Acceleration({item.row.address}): '{item.unit}'"
+                              + (", velocity-based profile" if " / " in item.unit else "") + ")")
+            return
+        for sec in self.page.section_for(item.row.address):
+            for tab in tables_in(self.page.section_text(sec, self.ref).splitlines()):
+                for cells in tab.rows:
+                    if len(cells) >= 2 and clean_cell(cells[0]).lower() == "unit":
+                        mt = accel.fullmatch(clean_cell(cells[1]))
+                        if mt:
+                            m["acceleration_unit_rpm2"] = float(mt.group(1).replace(",", ""))
+                            self.notes.append(
+                                f"motion.acceleration_unit_rpm2: {m['acceleration_unit_rpm2']} rev/min² per unit "
+                                f"(the page's table has no Unit column; the '{tab.header[0]}' table of the Profile "
+                                f"Acceleration({item.row.address}) description (control_table_profile_acceleration "
+                                f"include) says 'Unit {clean_cell(cells[1])}')")
+                            return
+        self.notes.append("motion.acceleration_unit_rpm2 omitted: no rev/min² unit is stated for Profile "
+                          "Acceleration")
 
     def indirect(self) -> list[dict] | None:
         ind = [i for i in self.items if i.key.startswith("indirect_")]
@@ -1486,8 +1647,21 @@ def parse_bps(text: str) -> int | None:
     return int(round(n * mult))
 
 
-def parse_spec_table(lines: list[str]) -> tuple | None:
-    """Stall torque and no-load speed at the recommended voltage from a Specifications table."""
+@dataclass
+class PageSpec:
+    """Motor figures read from a page's Specifications table (see parse_spec_table)."""
+    rpm: float
+    nm: float
+    amps: float | None
+    volts: float | None
+    detail: str
+    torque_text: str
+    speed_text: str
+
+
+def parse_spec_table(lines: list[str]) -> PageSpec | None:
+    """No-load speed, stall torque and stall current, and the voltage they are stated at, from a
+    Specifications table; where several voltages are listed, the recommended one."""
     rows = {}
     for tab in tables_in(lines):
         if tab.header and tab.header[0].lower().startswith("item"):
@@ -1524,8 +1698,15 @@ def parse_spec_table(lines: list[str]) -> tuple | None:
     elif len(torque) > 1:
         detail = "; the figure at the recommended input voltage is used"
     volts = t[1] if t[1] is not None else rec_v
+    if volts is not None and rec_v is not None and volts != rec_v:
+        detail += (f"; the figures are stated at {volts} V only, not at the recommended input voltage "
+                   f"({rec_v} V), so nominal_voltage_v is {volts}")
+    if s[1] is not None and volts is not None and s[1] != volts:
+        raise ValueError(f"no-load speed stated at {s[1]} V but stall torque at {volts} V")
+    # "1.5 [N.m] (at 12 [V], 1.5 [A])", "10.9 [N.m] (at 18.5V, 7A)", "6.0Nm @ 12V, 4.1A" (not "[Nm/A]")
+    amps = re.search(r",\s*([\d.]+)\s*\[?A\b", t[2])
     rpm = int(s[0]) if s[0].is_integer() else s[0]
-    return rpm, t[0], volts, detail
+    return PageSpec(rpm, t[0], float(amps.group(1)) if amps else None, volts, detail, t[2], s[2])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1536,6 +1717,8 @@ FAMILIES = {"x", "mx2", "mx1", "ax", "rx", "ex", "xl320", "p", "pro"}
 TOP_REQUIRED = {"name": str, "title": str, "model_number": int, "firmware_version": int, "family": str,
                 "protocols": list, "default_id": int, "baud_rates": list, "default_baud_index": int,
                 "return_delay_unit_us": int, "timing": dict, "motion": dict, "source": str, "items": list}
+MOTION_KEYS = {"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma", "no_load_speed_rpm", "stall_torque_nm",
+               "stall_current_a", "nominal_voltage_v", "acceleration_unit_rpm2"}
 ITEM_KEYS = {"key", "name", "address", "size", "access", "area", "initial", "initial_from", "signed", "min",
              "max", "values", "limit_min", "limit_max", "unit", "note"}
 
@@ -1561,6 +1744,9 @@ def validate(model: dict) -> None:
         need(isinstance(model["timing"].get(k), int), f"timing.{k}")
     for k in ("degrees_per_pulse", "velocity_unit_rpm"):
         need(isinstance(model["motion"].get(k), (int, float)), f"motion.{k}")
+    need(set(model["motion"]) <= MOTION_KEYS, f"motion: unknown fields {set(model['motion']) - MOTION_KEYS}")
+    for k, v in model["motion"].items():
+        need(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0, f"motion.{k} not a positive number")
     items = model["items"]
     keys, addrs, occupied = set(), set(), {}
     by_key = {i["key"]: i for i in items}

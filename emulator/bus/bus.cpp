@@ -160,7 +160,17 @@ void Bus::schedule_expiry(std::uint32_t client_bps) {
   });
 }
 
+void Bus::catch_up(SimTime now) {
+  for (const auto& servo : servos_) {
+    servo->advance_to(now);
+  }
+}
+
 void Bus::handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps) {
+  // Servos move between packets: each sees the instruction in the state it has reached.
+  if (!events.empty()) {
+    catch_up(scheduler_.now());
+  }
   for (const wire::FramerEvent& event : events) {
     const auto* failure = std::get_if<wire::FramingError>(&event);
     if (observer_.heard &&
@@ -200,8 +210,9 @@ void Bus::rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, Sim
       s->watchdog.reset();
     }
     if (const auto period = s->servo->bus_watchdog_period()) {
-      s->watchdog = scheduler_.schedule_at(now + *period, [s] {
+      s->watchdog = scheduler_.schedule_at(now + *period, [s, expiry = now + *period] {
         s->watchdog.reset();
+        s->servo->advance_to(expiry);
         if (s->servo->bus_watchdog_period()) {
           s->servo->expire_bus_watchdog();
         }
@@ -521,6 +532,7 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol pr
 }
 
 void Bus::settle(Station& station, bool reboot, SimTime at) {
+  station.servo->advance_to(at);
   station.servo->commit_deferred();
   if (reboot) {
     station.servo->reboot();

@@ -67,6 +67,9 @@ class Bus {
   /// Reports every packet both ways to `observer` from now on (replaces any earlier one).
   void set_observer(LineObserver observer) { observer_ = std::move(observer); }
 
+  /// Brings every servo's motion up to the scheduler's time (before reading a servo from
+  /// outside the bus, e.g. the control API).
+  void catch_up() { catch_up(scheduler_.now()); }
   /// Counters since the bus was made.
   const BusStats& stats() const { return stats_; }
 
@@ -80,6 +83,8 @@ class Bus {
   };
 
   void handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps);
+  /// Runs every servo's motion up to `now`.
+  void catch_up(sim::SimTime now);
   void schedule_expiry(std::uint32_t client_bps);
   void rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, sim::SimTime now);
   void on_frame(const wire::Frame& frame, std::uint32_t client_bps);

@@ -25,6 +25,7 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
       read_hooks_(spec_->items.size()),
       write_hooks_(spec_->items.size()),
       validators_(spec_->items.size()),
+      range_rules_(spec_->items.size()),
       torque_enable_(spec_->index_of("torque_enable")),
       lock_(spec_->index_of("lock")) {
   for (std::size_t i = 0; i < spec_->items.size(); ++i) {
@@ -179,38 +180,54 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
   for (const Touched& t : touched) {
     const ItemSpec& item = spec_->items[t.item];
     const std::int64_t value = decode(item, t.bytes);
-    if (!item.in_range(value)) {
-      return TableResult::fail(
-          TableError::DataRange,
-          std::to_string(value) + " is outside the range of " + describe_item(item));
-    }
-    // A limit item written in the same packet bounds with its new value.
-    if (item.limit_min) {
-      const std::int64_t bound = value_after(item.limit_min->item, touched);
-      const std::int64_t lo = item.limit_min->negate ? -bound : bound;
-      if (value < lo) {
-        return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is below " +
-                                                            (item.limit_min->negate ? "-" : "") +
-                                                            spec_->items[item.limit_min->item].key +
-                                                            " (" + std::to_string(lo) + ") for " +
-                                                            describe_item(item));
+    if (const auto range = range_rules_[t.item] ? range_rules_[t.item](t.item) : std::nullopt) {
+      if (value < range->min || value > range->max) {
+        return TableResult::fail(TableError::DataRange, std::to_string(value) + " is outside " +
+                                                            std::to_string(range->min) + " ~ " +
+                                                            std::to_string(range->max) + " for " +
+                                                            describe_item(item) +
+                                                            " in the present mode");
       }
-    }
-    if (item.limit_max) {
-      const std::int64_t bound = value_after(item.limit_max->item, touched);
-      const std::int64_t hi = item.limit_max->negate ? -bound : bound;
-      if (value > hi) {
-        return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is above " +
-                                                            spec_->items[item.limit_max->item].key +
-                                                            " (" + std::to_string(hi) + ") for " +
-                                                            describe_item(item));
-      }
+    } else if (const TableResult r = check_static_range(item, value, touched); !r.ok()) {
+      return r;
     }
     for (const Validator& v : validators_[t.item]) {
       TableResult r = v(t.item, value);
       if (!r.ok()) {
         return r;
       }
+    }
+  }
+  return {};
+}
+
+TableResult ControlTable::check_static_range(const ItemSpec& item, std::int64_t value,
+                                             const std::vector<Touched>& touched) const {
+  if (!item.in_range(value)) {
+    return TableResult::fail(
+        TableError::DataRange,
+        std::to_string(value) + " is outside the range of " + describe_item(item));
+  }
+  // A limit item written in the same packet bounds with its new value.
+  if (item.limit_min) {
+    const std::int64_t bound = value_after(item.limit_min->item, touched);
+    const std::int64_t lo = item.limit_min->negate ? -bound : bound;
+    if (value < lo) {
+      return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is below " +
+                                                          (item.limit_min->negate ? "-" : "") +
+                                                          spec_->items[item.limit_min->item].key +
+                                                          " (" + std::to_string(lo) + ") for " +
+                                                          describe_item(item));
+    }
+  }
+  if (item.limit_max) {
+    const std::int64_t bound = value_after(item.limit_max->item, touched);
+    const std::int64_t hi = item.limit_max->negate ? -bound : bound;
+    if (value > hi) {
+      return TableResult::fail(TableError::DataLimit, std::to_string(value) + " is above " +
+                                                          spec_->items[item.limit_max->item].key +
+                                                          " (" + std::to_string(hi) + ") for " +
+                                                          describe_item(item));
     }
   }
   return {};
@@ -343,6 +360,10 @@ void ControlTable::on_write(std::string_view key, WriteHook hook) {
 
 void ControlTable::add_validator(std::string_view key, Validator validator) {
   validators_[index(key)].push_back(std::move(validator));
+}
+
+void ControlTable::set_range_rule(std::string_view key, RangeRule rule) {
+  range_rules_[index(key)] = std::move(rule);
 }
 
 }  // namespace dxlemu::model

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,9 @@ class ControlTable {
   using Validator = std::function<TableResult(std::size_t item, std::int64_t new_value)>;
   /// Says whether EEPROM items are locked now; replaces the family's rule (2XL430: both axes).
   using EepromLock = std::function<bool()>;
+  /// The range an item accepts now when it depends on a mode (Goal Position in Extended Position
+  /// Control Mode); nullopt keeps the item's static range and limit items.
+  using RangeRule = std::function<std::optional<ItemRange>(std::size_t item)>;
 
   /// A table for `spec` with every item at its initial value and its family's rules installed
   /// (family_rules.hpp).
@@ -84,6 +88,9 @@ class ControlTable {
   void on_read(std::string_view key, ReadHook hook);
   void on_write(std::string_view key, WriteHook hook);
   void add_validator(std::string_view key, Validator validator);
+  /// Lets `rule` replace the item's static range and limit items (one rule per item; a later one
+  /// replaces it). Validators still run.
+  void set_range_rule(std::string_view key, RangeRule rule);
   /// Replaces the family's EEPROM lock rule (torque on, or 1.0 Lock) with `lock`.
   void set_eeprom_lock(EepromLock lock) { eeprom_lock_ = std::move(lock); }
 
@@ -100,6 +107,8 @@ class ControlTable {
   std::vector<Touched> plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
                                   TableResult& result) const;
   TableResult validate(const std::vector<Touched>& touched, wire::Protocol protocol) const;
+  TableResult check_static_range(const ItemSpec& item, std::int64_t value,
+                                 const std::vector<Touched>& touched) const;
   std::optional<std::uint16_t> resolve(std::uint16_t address) const;
   std::int64_t decode(const ItemSpec& item, std::span<const std::uint8_t> bytes) const;
   void encode(const ItemSpec& item, std::int64_t value, std::span<std::uint8_t> out) const;
@@ -112,6 +121,7 @@ class ControlTable {
   std::vector<std::vector<ReadHook>> read_hooks_;
   std::vector<std::vector<WriteHook>> write_hooks_;
   std::vector<std::vector<Validator>> validators_;
+  std::vector<RangeRule> range_rules_;
   EepromLock eeprom_lock_;
   std::optional<std::size_t> torque_enable_;
   std::optional<std::size_t> lock_;

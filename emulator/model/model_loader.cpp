@@ -37,9 +37,9 @@ constexpr std::array<std::string_view, 16> kItemFields = {
 constexpr std::array<std::string_view, 2> kBaudFields = {"index", "bps"};
 constexpr std::array<std::string_view, 5> kTimingFields = {"ping_us", "read_us", "write_us",
                                                            "write_per_byte_us", "boot_ms"};
-constexpr std::array<std::string_view, 5> kMotionFields = {"degrees_per_pulse", "velocity_unit_rpm",
-                                                           "current_unit_ma", "no_load_speed_rpm",
-                                                           "stall_torque_nm"};
+constexpr std::array<std::string_view, 8> kMotionFields = {
+    "degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma", "no_load_speed_rpm",
+    "stall_torque_nm",   "nominal_voltage_v", "stall_current_a", "acceleration_unit_rpm2"};
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 
 // Walks a JSON document with the pointer of the current value at hand, so that every refusal
@@ -418,6 +418,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.motion.current_unit_ma = optional_number("current_unit_ma");
   spec.motion.no_load_speed_rpm = optional_number("no_load_speed_rpm");
   spec.motion.stall_torque_nm = optional_number("stall_torque_nm");
+  spec.motion.nominal_voltage_v = optional_number("nominal_voltage_v");
+  spec.motion.stall_current_a = optional_number("stall_current_a");
+  spec.motion.acceleration_unit_rpm2 = optional_number("acceleration_unit_rpm2");
 
   spec.source = root.at("source").string();
   if (root.has("notes")) {

@@ -38,6 +38,12 @@ struct ItemBound {
   bool negate = false;
 };
 
+/// An inclusive range of item values.
+struct ItemRange {
+  std::int64_t min = 0;
+  std::int64_t max = 0;
+};
+
 /// One control-table item as the model file describes it.
 struct ItemSpec {
   std::string key;   ///< snake_case of the e-Manual name, unique per model
@@ -92,8 +98,12 @@ struct MotionSpec {
   double degrees_per_pulse = 0;
   double velocity_unit_rpm = 0;
   std::optional<double> current_unit_ma;
-  std::optional<double> no_load_speed_rpm;
-  std::optional<double> stall_torque_nm;
+  std::optional<double> no_load_speed_rpm;  ///< at nominal_voltage_v
+  std::optional<double> stall_torque_nm;    ///< at nominal_voltage_v
+  /// The input voltage at which no_load_speed_rpm, stall_torque_nm and stall_current_a are stated.
+  std::optional<double> nominal_voltage_v;
+  std::optional<double> stall_current_a;         ///< at nominal_voltage_v
+  std::optional<double> acceleration_unit_rpm2;  ///< rev/min² per unit of Profile Acceleration
 };
 
 /// Everything the emulator knows about one DYNAMIXEL model, loaded from its model file.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cmath>
 #include <type_traits>
 
 namespace dxlemu::model {
@@ -51,7 +50,8 @@ bool is_v1_family(Family family) {
 
 }  // namespace
 
-Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id) : table_(std::move(spec)) {
+Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id)
+    : table_(std::move(spec)), motion_(table_) {
   table_.set("id", id);
   commit_deferred();
 }
@@ -89,15 +89,21 @@ std::uint8_t Servo::error_byte_v2(wire::StatusError error) const {
   return wire::status_error_byte(error, hw && table_.get(*hw) != 0);
 }
 
+std::uint8_t Servo::v1_error(std::uint8_t bits) const {
+  // Protocol 1.0: the hardware error bits (Input Voltage, Overheating, Overload) are in the
+  // error byte of every status while they last (protocol1.md "Status Packet").
+  return bits | motion_.v1_error_bits();
+}
+
 std::uint8_t Servo::error_byte(TableError error) const {
   if (protocol_ == wire::Protocol::V1) {
-    return v1_error_bits(error);
+    return v1_error(v1_error_bits(error));
   }
   return error_byte_v2(v2_status_error(error));
 }
 
 std::uint8_t Servo::instruction_error() const {
-  return protocol_ == wire::Protocol::V1 ? wire::v1_error::kInstruction
+  return protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kInstruction)
                                          : error_byte_v2(wire::StatusError::Instruction);
 }
 
@@ -113,7 +119,7 @@ ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   ServoResponse r;
   r.reply = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   r.processing = write_time(0);
-  r.error = protocol_ == wire::Protocol::V1 ? wire::v1_error::kChecksum
+  r.error = protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kChecksum)
                                             : error_byte_v2(wire::StatusError::Crc);
   return r;
 }
@@ -138,6 +144,7 @@ ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration proc
 }
 
 ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing addressing) {
+  motion_.wake();
   const Timing& timing = spec().timing;
   const bool broadcast = addressing == Addressing::Broadcast;
   if (addressing == Addressing::Secondary) {
@@ -266,15 +273,11 @@ std::optional<sim::SimDuration> Servo::bus_watchdog_period() const {
 
 void Servo::expire_bus_watchdog() {
   table_.set("bus_watchdog", kBusWatchdogError);
-  // "The DYNAMIXEL will stop": hold where it is (the motion model refines this).
+  // "The DYNAMIXEL will stop": no velocity, and hold where it is.
   if (const auto velocity = item({"goal_velocity"})) {
     table_.set(*velocity, 0);
   }
-  const auto goal = item({"goal_position"});
-  const auto present = item({"present_position"});
-  if (goal && present && spec().items[*goal].in_range(table_.get(*present))) {
-    table_.set(*goal, table_.get(*present));
-  }
+  motion_.stop();
 }
 
 ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {
@@ -283,8 +286,9 @@ ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) cons
   r.reply = !broadcast && replies_to(is_read);
   r.processing = write_time(0);
   if (protocol_ == wire::Protocol::V1) {
-    r.error = error.kind == wire::DecodeErrorKind::BadValue ? wire::v1_error::kRange
-                                                            : wire::v1_error::kInstruction;
+    r.error =
+        v1_error(error.kind == wire::DecodeErrorKind::BadValue ? wire::v1_error::kRange
+                                                               : wire::v1_error::kInstruction);
   } else {
     r.error = error_byte_v2(error.kind == wire::DecodeErrorKind::BadValue
                                 ? wire::StatusError::DataRange
@@ -303,6 +307,7 @@ ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
 }
 
 void Servo::write_part(std::uint16_t address, std::span<const std::uint8_t> data) {
+  motion_.wake();
   if (protocol_) {
     table_.bus_write(address, data, *protocol_);
   }
@@ -341,13 +346,8 @@ ServoResponse Servo::do_clear(const wire::Clear& clear) {
     r.error = error_byte_v2(wire::StatusError::ResultFail);
     return r;
   }
-  if (const auto position = item({"present_position"})) {
-    // Back to an absolute position within one rotation (0 ~ 4095 on X).
-    const auto pulses =
-        static_cast<std::int64_t>(std::llround(360.0 / spec().motion.degrees_per_pulse));
-    const std::int64_t p = table_.get(*position);
-    table_.set(*position, ((p % pulses) + pulses) % pulses);
-  }
+  // Back to an absolute position within one rotation (0 ~ 4095 on X).
+  motion_.clear_turns();
   return r;
 }
 
@@ -415,6 +415,8 @@ void Servo::reboot() {
   if (!protocol_) {
     protocol_ = wire::Protocol::V2;
   }
+  // The shaft and the winding do not reboot: the Present values are refreshed from them.
+  motion_.after_reboot();
 }
 
 }  // namespace dxlemu::model

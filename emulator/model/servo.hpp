@@ -8,6 +8,7 @@
 
 #include "model/control_table.hpp"
 #include "model/model_spec.hpp"
+#include "model/motion_model.hpp"
 #include "sim/sim_time.hpp"
 #include "wire/instruction.hpp"
 #include "wire/instruction_decoder.hpp"
@@ -38,10 +39,21 @@ class Servo {
  public:
   /// A servo of `spec` at factory settings, except for `id`.
   Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id);
+  // The control table's hooks point into the servo: it stays where it was made.
+  Servo(const Servo&) = delete;
+  Servo& operator=(const Servo&) = delete;
 
   const ModelSpec& spec() const { return table_.spec(); }
   ControlTable& table() { return table_; }
   const ControlTable& table() const { return table_; }
+  /// The motion model: conditions, injected hardware errors, the motor's state. Call wake() on
+  /// it after changing the table device-side.
+  MotionModel& motion() { return motion_; }
+  const MotionModel& motion() const { return motion_; }
+
+  /// Brings motion, temperature and hardware errors up to `now` (simulated time). The bus calls
+  /// it before the servo sees an instruction.
+  void advance_to(sim::SimTime now) { motion_.advance_to(now); }
 
   /// Identity on the bus. A new ID, Baud Rate, Protocol Type or Return Delay Time written by an
   /// instruction takes effect only at commit_deferred(), after that instruction's status.
@@ -112,6 +124,7 @@ class Servo {
   std::uint8_t error_byte(TableError error) const;
   std::uint8_t error_byte_v2(wire::StatusError error) const;
   std::uint8_t instruction_error() const;
+  std::uint8_t v1_error(std::uint8_t bits) const;
   ServoResponse from_table(const TableResult& result, sim::SimDuration processing) const;
   ServoResponse do_factory_reset(std::uint8_t option, bool broadcast);
   ServoResponse execute_secondary(const wire::InstructionPacket& packet);
@@ -121,6 +134,7 @@ class Servo {
   std::optional<std::size_t> item(std::initializer_list<std::string_view> keys) const;
 
   ControlTable table_;
+  MotionModel motion_;
   std::uint8_t id_ = 1;
   std::optional<wire::Protocol> protocol_;
   std::uint32_t baud_bps_ = 0;

@@ -15,6 +15,8 @@ wire::StatusError v2_status_error(TableError error) {
     case TableError::DataLimit:
     case TableError::AngleLimit:
       return wire::StatusError::DataLimit;
+    case TableError::ResultFail:
+      return wire::StatusError::ResultFail;
   }
   return wire::StatusError::ResultFail;
 }
@@ -29,6 +31,7 @@ std::uint8_t v1_error_bits(TableError error) {
     case TableError::DataLength:
     case TableError::DataRange:
     case TableError::DataLimit:
+    case TableError::ResultFail:
       // "Range Error: When an instruction is out of the range for use" (protocol1.md "Error").
       return wire::v1_error::kRange;
   }

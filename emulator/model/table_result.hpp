@@ -17,6 +17,7 @@ enum class TableError {
   DataLimit,   ///< value beyond the item that limits it (e.g. Max Position Limit)
   AngleLimit,  ///< Goal Position outside CW/CCW Angle Limit in joint mode (AX, RX, EX, MX 1.0,
                ///< XL-320)
+  ResultFail,  ///< the servo cannot do it now (Torque Enable after a hardware error shutdown)
 };
 
 /// The Protocol 2.0 error number for a refusal (protocol2.md "Error"); an Angle Limit refusal is

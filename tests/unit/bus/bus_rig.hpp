@@ -43,6 +43,14 @@ struct BusRig {
   void run(sim::SimDuration d = std::chrono::seconds(1)) { scheduler.advance_by(d); }
 };
 
+/// Makes `servo` really turn (torque off, back-driven by an external load of `load_nm`; 0 stops
+/// it): for rules that depend on Moving. Moving reads 1 from the first tick after.
+inline void turn_by_hand(model::Servo& servo, double load_nm) {
+  model::Conditions c = servo.motion().conditions();
+  c.external_load_nm = load_nm;
+  servo.motion().set_conditions(c);
+}
+
 /// The line time of `bytes` at the rig's baud rate.
 inline sim::SimDuration line(std::size_t bytes, std::uint32_t bps = BusRig::kBaud) {
   return bus::wire_time(bytes, bps);

@@ -23,12 +23,16 @@ using test::kBroadcast;
 using test::kXProcessing;
 using test::kXReturnDelay;
 using test::line;
+using test::turn_by_hand;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
 constexpr std::uint32_t kOneMbps = 1'000'000;
+// A load that back-drives an XM430-W350 with torque off, and a few motion ticks.
+constexpr double kHandTorqueNm = 2.0;
+constexpr sim::SimDuration kMs = 5ms;
 
 /// The client writes raw `bytes` now at `bps` (e.g. a packet printed by the e-Manual).
 std::size_t feed(BusRig& rig, const Bytes& bytes, std::uint32_t bps = BusRig::kBaud) {
@@ -298,10 +302,12 @@ TEST_CASE(
       expected.push_back(static_cast<std::uint8_t>(error | a));
     };
     // 0x01 Result Fail: Clear while moving (protocol2.md "Clear").
-    servo.table().set("moving", 1);
+    turn_by_hand(servo, kHandTorqueNm);
+    rig.run(kMs);
     rig.send({Protocol::V2, 1, kClearMultiTurn});
     expect(0x01);
-    servo.table().set("moving", 0);
+    turn_by_hand(servo, 0);
+    servo.table().set("present_position", 2048);
     // 0x02 Instruction Error: an undefined instruction, Action without Reg Write.
     rig.send({Protocol::V2, 1, wire::UnknownInstruction{0x7E, {}}});
     expect(0x02);
@@ -325,8 +331,10 @@ TEST_CASE(
     expect(0x07);
     rig.send({Protocol::V2, 1, wire::Read{700, 1}});
     expect(0x07);
+    // After a hardware error shutdown Torque Enable is refused until a reboot (docs/motion.md).
     rig.send({Protocol::V2, 1, wire::Write{64, {1}}});
-    expect(0x00);
+    expect(alert ? 0x01 : 0x00);
+    servo.table().set("torque_enable", 1);
     rig.send({Protocol::V2, 1, wire::Write{9, {0}}});
     expect(0x07);
     std::vector<Bytes> packets;
@@ -610,11 +618,13 @@ TEST_CASE(
   rig.run();
   CHECK(servo.table().get("present_position") == 10000 % 4096);
   servo.table().set("present_position", 5000);
-  servo.table().set("moving", 1);
+  turn_by_hand(servo, kHandTorqueNm);
+  rig.run(kMs);
   rig.send({Protocol::V2, 1, kClearMultiTurn});
   rig.run();
-  CHECK(servo.table().get("present_position") == 5000);
-  servo.table().set("moving", 0);
+  CHECK(servo.table().get("present_position") > 5000);  // still turning, not wrapped
+  turn_by_hand(servo, 0);
+  servo.table().set("present_position", 5000);
   rig.send({Protocol::V2, 1, wire::Clear{0x02, {}}});  // a reserved option
   rig.run();
   CHECK(servo.table().get("present_position") == 5000);

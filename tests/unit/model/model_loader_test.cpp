@@ -57,6 +57,48 @@ TEST_CASE("A valid model file loads with every field", "[model][loader]") {
   CHECK(spec->find("present_velocity")->min == -2147483648LL);
 }
 
+TEST_CASE("The motion figures load when present and stay empty when absent", "[model][loader]") {
+  const auto bare = test::test_model();
+  CHECK(bare->motion.degrees_per_pulse == 0.087890625);
+  CHECK(bare->motion.velocity_unit_rpm == 0.229);
+  CHECK(!bare->motion.current_unit_ma);
+  CHECK(!bare->motion.no_load_speed_rpm);
+  CHECK(!bare->motion.stall_torque_nm);
+  CHECK(!bare->motion.nominal_voltage_v);
+  CHECK(!bare->motion.stall_current_a);
+  CHECK(!bare->motion.acceleration_unit_rpm2);
+
+  json j = test::test_model_json();
+  j["motion"]["current_unit_ma"] = 2.69;
+  j["motion"]["no_load_speed_rpm"] = 46;
+  j["motion"]["stall_torque_nm"] = 4.1;
+  j["motion"]["nominal_voltage_v"] = 12.0;
+  j["motion"]["stall_current_a"] = 2.3;
+  j["motion"]["acceleration_unit_rpm2"] = 214.577;
+  const auto spec = model::model_from_json(j, "motion.json");
+  CHECK(spec.motion.current_unit_ma == std::optional(2.69));
+  CHECK(spec.motion.no_load_speed_rpm == std::optional(46.0));
+  CHECK(spec.motion.stall_torque_nm == std::optional(4.1));
+  CHECK(spec.motion.nominal_voltage_v == std::optional(12.0));
+  CHECK(spec.motion.stall_current_a == std::optional(2.3));
+  CHECK(spec.motion.acceleration_unit_rpm2 == std::optional(214.577));
+}
+
+TEST_CASE("The loader refuses motion figures that are not positive numbers", "[model][loader]") {
+  for (const char* key : {"nominal_voltage_v", "stall_current_a", "acceleration_unit_rpm2",
+                          "no_load_speed_rpm", "stall_torque_nm", "current_unit_ma"}) {
+    INFO(key);
+    const std::string expected = std::string("/motion/") + key + ": must be a positive number";
+    CHECK(refusal([key](json& j) { j["motion"][key] = 0; }) == expected);
+    CHECK(refusal([key](json& j) { j["motion"][key] = -1.5; }) == expected);
+    CHECK(refusal([key](json& j) { j["motion"][key] = "12"; }) == expected);
+    CHECK(refusal([key](json& j) { j["motion"][key] = true; }) == expected);
+    CHECK(refusal([key](json& j) { j["motion"][key] = nullptr; }) == expected);
+  }
+  CHECK(refusal([](json& j) { j["motion"]["stall_current_ma"] = 2300; }) ==
+        "/motion/stall_current_ma: unknown field");
+}
+
 TEST_CASE("Items come out in address order whatever the file order", "[model][loader]") {
   json j = test::test_model_json();
   std::reverse(j["items"].begin(), j["items"].end());

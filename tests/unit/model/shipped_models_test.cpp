@@ -3,12 +3,14 @@
 // ../shared/reference is present.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "model/control_table.hpp"
 #include "model/model_loader.hpp"
@@ -201,6 +203,53 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
   }
 }
 
+TEST_CASE("Every shipped model states its motor figures, each with a note naming its source",
+          "[model][shipped]") {
+  // The P and PRO pages give a no-load speed and a continuous (rated) operating point but no stall
+  // figures; every other model's stall torque and current are stated somewhere.
+  const std::set<std::string> no_stall_figures = {"ph54-200-s500-r", "h54-200-s500-r"};
+  const auto noted = [](const model::ModelSpec& spec, const std::string& field) {
+    return std::any_of(spec.notes.begin(), spec.notes.end(), [&](const std::string& note) {
+      return note.rfind("motion.", 0) == 0 && note.find(field) < note.find(':');
+    });
+  };
+  for (const auto& spec : shipped_models()) {
+    INFO(spec->name);
+    const auto& motion = spec->motion;
+    CHECK(motion.no_load_speed_rpm);
+    CHECK(motion.nominal_voltage_v);
+    CHECK(noted(*spec, "no_load_speed_rpm"));
+    CHECK(noted(*spec, "nominal_voltage_v"));
+    const bool stall = no_stall_figures.count(spec->name) == 0;
+    CHECK(motion.stall_torque_nm.has_value() == stall);
+    CHECK(motion.stall_current_a.has_value() == stall);
+    if (stall) {
+      CHECK(noted(*spec, "stall_torque_nm"));
+      CHECK(noted(*spec, "stall_current_a"));
+    }
+    const bool profile = spec->find("profile_acceleration") != nullptr;
+    CHECK(motion.acceleration_unit_rpm2.has_value() == profile);
+    CHECK(noted(*spec, "acceleration_unit_rpm2"));
+  }
+  const auto by_name = [models = shipped_models()](const std::string& name) {
+    for (const auto& spec : models) {
+      if (spec->name == name) {
+        return spec;
+      }
+    }
+    throw std::logic_error("no model " + name);
+  };
+  const auto xm430 = by_name("xm430-w350")->motion;
+  CHECK(xm430.no_load_speed_rpm == std::optional(46.0));
+  CHECK(xm430.stall_torque_nm == std::optional(4.1));
+  CHECK(xm430.stall_current_a == std::optional(2.3));
+  CHECK(xm430.nominal_voltage_v == std::optional(12.0));
+  CHECK(xm430.acceleration_unit_rpm2 == std::optional(214.577));
+  CHECK(by_name("mx-28-2")->motion.acceleration_unit_rpm2 == std::optional(214.577));
+  CHECK(by_name("ph54-200-s500-r")->motion.acceleration_unit_rpm2 == std::optional(1.0));
+  CHECK(by_name("ax-12a")->motion.nominal_voltage_v == std::optional(12.0));
+}
+
 TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[model][shipped]") {
   const auto schema = nlohmann::json::parse(slurp(kModels / "schema" / "model.schema.json"));
   auto keys_of = [](const nlohmann::json& properties) {
@@ -215,4 +264,8 @@ TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[mo
   };
   CHECK(keys_of(schema.at("properties")) == as_set(model::model_fields()));
   CHECK(keys_of(schema.at("$defs").at("item").at("properties")) == as_set(model::item_fields()));
+  CHECK(keys_of(schema.at("$defs").at("motion").at("properties")) ==
+        std::set<std::string>{"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma",
+                              "no_load_speed_rpm", "stall_torque_nm", "nominal_voltage_v",
+                              "stall_current_a", "acceleration_unit_rpm2"});
 }

@@ -1,0 +1,142 @@
+#include "model/motor_physics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dxlemu::model {
+namespace {
+
+// A free (torque off) shaft resists this share of stall torque before an external load turns
+// it: gearbox friction and detent.
+constexpr double kFreeFriction = 0.05;
+// A blocked or lagging shaft: the position controller reaches full torque at this error
+// (pulses per revolution share), like a stiff P gain.
+constexpr double kFullTorqueErrorRev = 1.0 / 64;
+// At or above this share of the available standstill torque the motor counts as at its limit.
+constexpr double kAtLimit = 0.95;
+// A temperature this close to its steady value is taken as there (keeps rest exact).
+constexpr double kTemperatureSnapC = 1e-3;
+
+double sign(double x) {
+  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
+}
+
+}  // namespace
+
+MotorPhysics::MotorPhysics(const MotorParams& params, double tick_ms, double position,
+                           double temperature_c)
+    : params_(params), tick_ms_(tick_ms), cooling_(std::exp(-tick_ms / params.thermal_time_ms)) {
+  state_.position = position;
+  state_.temperature_c = temperature_c;
+}
+
+double MotorPhysics::top_speed(double duty_cap, double supply_v) const {
+  return params_.no_load_speed * std::max(0.0, duty_cap) * std::max(0.0, supply_v) /
+         params_.nominal_voltage_v;
+}
+
+double MotorPhysics::free_velocity(const Conditions& conditions) const {
+  // A load above the gearbox's friction back-drives the shaft at a speed that grows with it.
+  const double friction = kFreeFriction * params_.stall_torque_nm;
+  const double excess = std::abs(conditions.external_load_nm) - friction;
+  if (conditions.blocked || excess <= 0) {
+    return 0;
+  }
+  return sign(conditions.external_load_nm) * params_.no_load_speed *
+         std::min(1.0, excess / params_.stall_torque_nm);
+}
+
+double MotorPhysics::accelerate(double torque, double cap, const Conditions& conditions,
+                                double top) const {
+  const double net = std::clamp(torque, -cap, cap) + conditions.external_load_nm;
+  const double v = state_.velocity + net / params_.inertia * tick_ms_;
+  return std::clamp(v, -top, top);
+}
+
+double MotorPhysics::follow(const DriveCommand& command, const Conditions& conditions,
+                            double& torque) {
+  const double top = top_speed(command.duty_cap, conditions.supply_v);
+  const double wanted = (command.target - state_.position) / tick_ms_;
+  if (conditions.blocked) {
+    const double error = command.target - state_.position;
+    torque = params_.stall_torque_nm * error / (kFullTorqueErrorRev * params_.pulses_per_rev);
+    return 0;
+  }
+  // The torque to be exactly on target at the end of the tick, against the external load.
+  const double needed =
+      params_.inertia * (wanted - state_.velocity) / tick_ms_ - conditions.external_load_nm;
+  const double cap = command.torque_cap_nm;
+  if (std::abs(needed) <= cap && std::abs(wanted) <= top) {
+    torque = needed;
+    return wanted;
+  }
+  torque = std::clamp(needed, -cap, cap);
+  double v = accelerate(needed, cap, conditions, top);
+  // The controller never drives past its target within a tick.
+  if (sign(v) == sign(wanted) && std::abs(v) > std::abs(wanted)) {
+    v = wanted;
+  }
+  return v;
+}
+
+void MotorPhysics::step(const DriveCommand& command, const Conditions& conditions) {
+  const double supply = std::max(0.0, conditions.supply_v);
+  // What the motor can give at standstill: the supply over the winding, and the controller's cap.
+  const double stall_at_supply = params_.stall_torque_nm * supply / params_.nominal_voltage_v;
+  double cap = std::min(command.torque_cap_nm, stall_at_supply * std::max(0.0, command.duty_cap));
+  DriveCommand limited = command;
+  limited.torque_cap_nm = cap;
+  double torque = 0;
+  double velocity = 0;
+  switch (command.kind) {
+    case DriveCommand::Kind::Off:
+      cap = 0;
+      velocity = free_velocity(conditions);
+      break;
+    case DriveCommand::Kind::Follow:
+      velocity = follow(limited, conditions, torque);
+      break;
+    case DriveCommand::Kind::Torque:
+      torque = std::clamp(command.torque_nm, -cap, cap);
+      velocity = conditions.blocked
+                     ? 0
+                     : accelerate(torque, cap, conditions, top_speed(command.duty_cap, supply));
+      break;
+    case DriveCommand::Kind::Pwm: {
+      // Linear torque-speed curve at the applied duty: no torque at that duty's no-load speed.
+      const double duty = std::clamp(command.duty, -command.duty_cap, command.duty_cap);
+      torque = params_.stall_torque_nm * (duty * supply / params_.nominal_voltage_v -
+                                          state_.velocity / params_.no_load_speed);
+      torque = std::clamp(torque, -cap, cap);
+      velocity = conditions.blocked
+                     ? 0
+                     : accelerate(torque, cap, conditions, top_speed(command.duty_cap, supply));
+      break;
+    }
+  }
+  torque = std::clamp(torque, -cap, cap);
+  state_.at_limit = cap > 0 && std::abs(torque) >= kAtLimit * cap;
+  state_.velocity = velocity;
+  state_.position += velocity * tick_ms_;
+  state_.torque_nm = torque;
+  state_.current_a = torque / params_.torque_constant();
+  // Duty: the winding's IR drop plus the back-EMF, over the supply.
+  state_.duty = supply > 0 ? std::clamp(params_.nominal_voltage_v / supply *
+                                            (state_.current_a / params_.stall_current_a +
+                                             (command.kind == DriveCommand::Kind::Off
+                                                  ? 0.0
+                                                  : velocity / params_.no_load_speed)),
+                                        -1.0, 1.0)
+                           : 0.0;
+  heat(conditions);
+}
+
+void MotorPhysics::heat(const Conditions& conditions) {
+  // First-order thermal model, stepped exactly: T relaxes towards ambient + P·Rth.
+  const double power = state_.current_a * state_.current_a * params_.resistance();
+  const double steady = conditions.ambient_c + power * params_.thermal_resistance;
+  const double t = steady + (state_.temperature_c - steady) * cooling_;
+  state_.temperature_c = std::abs(t - steady) < kTemperatureSnapC ? steady : t;
+}
+
+}  // namespace dxlemu::model

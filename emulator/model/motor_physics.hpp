@@ -1,0 +1,85 @@
+#pragma once
+
+#include <limits>
+
+#include "model/motor_params.hpp"
+
+namespace dxlemu::model {
+
+/// The world around one servo, set through the control API or by tests.
+struct Conditions {
+  double ambient_c = 25;
+  double supply_v = 12;
+  /// External torque on the output shaft, N·m; positive turns it towards higher positions.
+  double external_load_nm = 0;
+  /// The shaft cannot turn at all.
+  bool blocked = false;
+};
+
+/// What the servo's controller asks of the motor for one tick.
+struct DriveCommand {
+  enum class Kind {
+    Off,     ///< torque off: the shaft is free (it follows an external load)
+    Follow,  ///< be at `target` at the end of the tick (position and velocity control)
+    Torque,  ///< produce `torque_nm` (current control)
+    Pwm,     ///< apply `duty` of the supply voltage (PWM control, 1.0 wheel mode)
+  };
+  Kind kind = Kind::Off;
+  double target = 0;     ///< Follow: pulses
+  double torque_nm = 0;  ///< Torque
+  double duty = 0;       ///< Pwm: -1 ~ 1
+  /// The most torque the controller may use (Current Limit, Torque Limit, Goal Current).
+  double torque_cap_nm = std::numeric_limits<double>::infinity();
+  /// PWM Limit as a fraction of the supply: bounds speed in every mode.
+  double duty_cap = 1;
+};
+
+/// The physical state of the motor and shaft after a tick.
+struct MotorState {
+  double position = 0;  ///< pulses, continuous over turns, before direction and Homing Offset
+  double velocity = 0;  ///< pulses/ms
+  double torque_nm = 0;
+  double current_a = 0;
+  double duty = 0;  ///< -1 ~ 1
+  double temperature_c = 25;
+  /// The motor gives all the torque it can at standstill (blocked, overpowered, or asked for
+  /// more): what sustained, raises Overload Error.
+  bool at_limit = false;
+
+  bool operator==(const MotorState&) const = default;
+};
+
+/// A DC motor behind a gearbox with a linear torque-speed curve, a winding that heats with I²R
+/// and cools towards ambient, and an external load. Steps of fixed length; deterministic.
+/// docs/motion.md "The motor".
+class MotorPhysics {
+ public:
+  /// A motor with `params`, ticking every `tick_ms`, its shaft at `position`.
+  MotorPhysics(const MotorParams& params, double tick_ms, double position, double temperature_c);
+
+  /// Advances one tick under `command` and `conditions`.
+  void step(const DriveCommand& command, const Conditions& conditions);
+
+  const MotorState& state() const { return state_; }
+  /// Device side: moves the shaft without dynamics (Clear, position reset to one turn).
+  void set_position(double position) { state_.position = position; }
+  /// Device side: sets the winding temperature.
+  void set_temperature(double celsius) { state_.temperature_c = celsius; }
+  const MotorParams& params() const { return params_; }
+  double tick_ms() const { return tick_ms_; }
+  /// The fastest the shaft turns with `duty_cap` of `supply_v`, pulses/ms.
+  double top_speed(double duty_cap, double supply_v) const;
+
+ private:
+  double follow(const DriveCommand& command, const Conditions& conditions, double& torque);
+  double accelerate(double torque, double cap, const Conditions& conditions, double top) const;
+  double free_velocity(const Conditions& conditions) const;
+  void heat(const Conditions& conditions);
+
+  MotorParams params_;
+  double tick_ms_;
+  double cooling_;  // exp(-tick / thermal time): the share of a temperature difference left
+  MotorState state_;
+};
+
+}  // namespace dxlemu::model
