@@ -1111,6 +1111,12 @@ class ModelBuilder:
 
     # -- pass 3: signedness, operating modes, special items -----------------------------------
 
+    def page_has_extended_mode(self) -> bool:
+        """True when the model's Operating Mode accepts 4 (Extended Position Control Mode)."""
+        mode = next((i for i in self.items if i.key == "operating_mode"), None)
+        return mode is not None and (4 in (mode.values or []) or
+                                     (mode.max is not None and mode.max >= 4))
+
     def signedness(self):
         for item in self.items:
             if (item.min is not None and item.min < 0) or (item.values and min(item.values) < 0):
@@ -1121,6 +1127,12 @@ class ModelBuilder:
                 item.signed = True
                 item.notes.append("signed: the page prints no range, but the device reports this value in "
                                   "two's complement (negative for reverse direction / below zero)")
+            if (item.key == "goal_position" and self.family in P2_FAMILIES and not item.signed
+                    and self.page_has_extended_mode()):
+                item.signed = True
+                item.notes.append("signed: Extended Position Control Mode (Operating Mode 4) takes goals of "
+                                  "-256 ~ 256 rev in two's complement (opmode include); the range rule of the "
+                                  "motion model widens the static range in that mode")
             if item.key == "bus_watchdog" and self.family in ("x", "mx2", "p"):
                 item.signed = True
                 printed = f"{item.min} ~ {item.max}"

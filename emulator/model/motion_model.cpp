@@ -194,8 +194,11 @@ void MotionModel::install_hooks() {
   if (items_->torque_limit && classic()) {
     // Alarm Shutdown zeroes Torque Limit; writing it again makes the motor usable
     // (ax-legacy-page-description-sections.md "Torque Limit").
-    table_.on_write("torque_limit",
-                    [this](std::size_t, std::int64_t, std::int64_t) { overload_latched_ = false; });
+    table_.on_write("torque_limit", [this](std::size_t, std::int64_t, std::int64_t) {
+      overload_latched_ = false;
+      v1_errors_ &=
+          static_cast<std::uint8_t>(~fault_bit(table_.spec().family, HardwareFault::Overload));
+    });
   }
 }
 
@@ -240,6 +243,7 @@ void MotionModel::on_torque_enable(std::int64_t old_value, std::int64_t new_valu
     wrap_to_one_turn();
   }
   hold();
+  publish();
 }
 
 void MotionModel::on_operating_mode() {
@@ -427,13 +431,19 @@ void MotionModel::hold() {
   profile_ = Profile::hold(here);
   step_profile_ = false;
   velocity_demand_ = 0;
-  if (items_->goal_position) {
-    const ItemSpec& goal = table_.spec().items[*items_->goal_position];
-    const std::int64_t present = present_position();
-    if (classic() || goal.in_range(present) || mode() == Mode::Extended ||
-        mode() == Mode::CurrentPosition) {
-      put(items_->goal_position, present);
-    }
+  goal_to_present();
+}
+
+void MotionModel::goal_to_present() {
+  if (!items_->goal_position) {
+    return;
+  }
+  // Only where the goal could have been written: within the position limits in Position mode.
+  const ItemSpec& goal = table_.spec().items[*items_->goal_position];
+  const std::int64_t present = present_position();
+  if (classic() || goal.in_range(present) || mode() == Mode::Extended ||
+      mode() == Mode::CurrentPosition) {
+    put(items_->goal_position, present);
   }
 }
 
@@ -455,7 +465,8 @@ void MotionModel::clear_turns() {
 }
 
 void MotionModel::after_reboot() {
-  wake();
+  // The table was just re-initialised: its Present values are not device-side changes.
+  resting_ = false;
   // includes/control_table_opmode_note.md: at power-on and reboot Present Position is within one
   // turn again (not for MX 1.0 multi-turn, whose position is absolute within its range).
   if (!classic()) {
@@ -466,13 +477,7 @@ void MotionModel::after_reboot() {
   profile_.reset();
   velocity_demand_ = 0;
   publish();
-  if (items_->goal_position) {
-    const ItemSpec& goal = table_.spec().items[*items_->goal_position];
-    const std::int64_t present = present_position();
-    if (goal.in_range(present)) {
-      table_.set(*items_->goal_position, present);
-    }
-  }
+  goal_to_present();
   if (torque_on()) {
     hold();  // Startup Configuration turned torque on
   }
@@ -498,16 +503,19 @@ void MotionModel::wake() {
 void MotionModel::absorb_device_changes() {
   // Present values set device-side (tests, the control API) move the physical state there.
   if (items_->present_position && table_.get(*items_->present_position) != published_.position) {
-    motor_.set_position(raw_goal(table_.get(*items_->present_position)));
+    published_.position = table_.get(*items_->present_position);
+    motor_.set_position(raw_goal(published_.position));
     resting_ = false;
   }
   if (items_->present_temperature &&
       table_.get(*items_->present_temperature) != published_.temperature) {
-    motor_.set_temperature(static_cast<double>(table_.get(*items_->present_temperature)));
+    published_.temperature = table_.get(*items_->present_temperature);
+    motor_.set_temperature(static_cast<double>(published_.temperature));
     resting_ = false;
   }
   if (items_->present_voltage && table_.get(*items_->present_voltage) != published_.voltage) {
-    conditions_.supply_v = static_cast<double>(table_.get(*items_->present_voltage)) / kDeciVolt;
+    published_.voltage = table_.get(*items_->present_voltage);
+    conditions_.supply_v = static_cast<double>(published_.voltage) / kDeciVolt;
     resting_ = false;
   }
 }
@@ -771,7 +779,8 @@ void MotionModel::publish_classic() {
     put(items_->present_position, value);
   }
   const auto magnitude = [](double v) {
-    return std::min(kV1Magnitude, round_to(std::abs(v))) | (v < 0 ? kV1Cw : 0);
+    const std::int64_t m = std::min(kV1Magnitude, round_to(std::abs(v)));
+    return m | (m != 0 && v < 0 ? kV1Cw : 0);
   };
   put(items_->present_speed, magnitude(s.velocity / p.velocity_unit));
   put(items_->present_load, magnitude(s.torque_nm / p.stall_torque_nm * kV1Magnitude));

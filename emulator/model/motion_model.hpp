@@ -86,6 +86,7 @@ class MotionModel {
   bool profile_running() const;
   void plan_to(double raw_goal);
   void hold();
+  void goal_to_present();
   void on_goal_position(std::int64_t goal);
   void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
   void on_operating_mode();

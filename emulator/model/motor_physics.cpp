@@ -14,8 +14,10 @@ constexpr double kFreeFriction = 0.05;
 constexpr double kFullTorqueErrorRev = 1.0 / 64;
 // At or above this share of the available standstill torque the motor counts as at its limit.
 constexpr double kAtLimit = 0.95;
-// A temperature this close to its steady value is taken as there (keeps rest exact).
+// A temperature this close to its steady value, and a speed this close to 0 (pulses/ms), are
+// taken as there: decays end, so a servo comes to rest exactly.
 constexpr double kTemperatureSnapC = 1e-3;
+constexpr double kVelocitySnap = 1e-6;
 
 double sign(double x) {
   return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
@@ -53,25 +55,42 @@ double MotorPhysics::accelerate(double torque, double cap, const Conditions& con
   return std::clamp(v, -top, top);
 }
 
+double MotorPhysics::available(double direction, double cap, double supply, double duty_cap) const {
+  // Braking (torque against the motion) gets the whole cap; driving loses torque to back-EMF as
+  // speed grows (linear torque-speed curve), none left at the no-load speed of the duty.
+  const double v = state_.velocity;
+  if (direction * v <= 0) {
+    return cap;
+  }
+  const double drive =
+      params_.stall_torque_nm * (std::max(0.0, duty_cap) * supply / params_.nominal_voltage_v -
+                                 std::abs(v) / params_.no_load_speed);
+  return std::clamp(drive, 0.0, cap);
+}
+
 double MotorPhysics::follow(const DriveCommand& command, const Conditions& conditions,
                             double& torque) {
-  const double top = top_speed(command.duty_cap, conditions.supply_v);
+  const double supply = std::max(0.0, conditions.supply_v);
+  const double top = top_speed(command.duty_cap, supply);
+  const double cap = command.torque_cap_nm;
   const double wanted = (command.target - state_.position) / tick_ms_;
   if (conditions.blocked) {
     const double error = command.target - state_.position;
-    torque = params_.stall_torque_nm * error / (kFullTorqueErrorRev * params_.pulses_per_rev);
+    torque =
+        std::clamp(params_.stall_torque_nm * error / (kFullTorqueErrorRev * params_.pulses_per_rev),
+                   -cap, cap);
     return 0;
   }
   // The torque to be exactly on target at the end of the tick, against the external load.
   const double needed =
       params_.inertia * (wanted - state_.velocity) / tick_ms_ - conditions.external_load_nm;
-  const double cap = command.torque_cap_nm;
-  if (std::abs(needed) <= cap && std::abs(wanted) <= top) {
+  const double avail = available(sign(needed), cap, supply, command.duty_cap);
+  if (std::abs(needed) <= avail && std::abs(wanted) <= top) {
     torque = needed;
     return wanted;
   }
-  torque = std::clamp(needed, -cap, cap);
-  double v = accelerate(needed, cap, conditions, top);
+  torque = std::clamp(needed, -avail, avail);
+  double v = accelerate(torque, avail, conditions, top);
   // The controller never drives past its target within a tick.
   if (sign(v) == sign(wanted) && std::abs(v) > std::abs(wanted)) {
     v = wanted;
@@ -96,12 +115,14 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
     case DriveCommand::Kind::Follow:
       velocity = follow(limited, conditions, torque);
       break;
-    case DriveCommand::Kind::Torque:
-      torque = std::clamp(command.torque_nm, -cap, cap);
+    case DriveCommand::Kind::Torque: {
+      const double avail = available(sign(command.torque_nm), cap, supply, command.duty_cap);
+      torque = std::clamp(command.torque_nm, -avail, avail);
       velocity = conditions.blocked
                      ? 0
                      : accelerate(torque, cap, conditions, top_speed(command.duty_cap, supply));
       break;
+    }
     case DriveCommand::Kind::Pwm: {
       // Linear torque-speed curve at the applied duty: no torque at that duty's no-load speed.
       const double duty = std::clamp(command.duty, -command.duty_cap, command.duty_cap);
@@ -115,6 +136,9 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
     }
   }
   torque = std::clamp(torque, -cap, cap);
+  if (std::abs(velocity) < kVelocitySnap) {
+    velocity = 0;
+  }
   state_.at_limit = cap > 0 && std::abs(torque) >= kAtLimit * cap;
   state_.velocity = velocity;
   state_.position += velocity * tick_ms_;

@@ -74,6 +74,7 @@ class MotorPhysics {
   double follow(const DriveCommand& command, const Conditions& conditions, double& torque);
   double accelerate(double torque, double cap, const Conditions& conditions, double top) const;
   double free_velocity(const Conditions& conditions) const;
+  double available(double direction, double cap, double supply, double duty_cap) const;
   void heat(const Conditions& conditions);
 
   MotorParams params_;
