@@ -188,7 +188,7 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
                                                             describe_item(item) +
                                                             " in the present mode");
       }
-    } else if (const TableResult r = check_static_range(item, value, touched); !r.ok()) {
+    } else if (TableResult r = check_static_range(item, value, touched); !r.ok()) {
       return r;
     }
     for (const Validator& v : validators_[t.item]) {

@@ -375,12 +375,12 @@ double MotionModel::duty_cap() const {
 }
 
 double MotionModel::profile_elapsed_ms() const {
-  // Ticks run at next_tick_; the state is that of the tick before.
-  return Ms(next_tick_ - profile_start_).count();
+  // The profile at the time of the state: the last tick run.
+  return Ms(state_time_ - profile_start_).count();
 }
 
 bool MotionModel::profile_running() const {
-  return profile_ && profile_elapsed_ms() - Ms(tick_).count() < profile_->duration_ms();
+  return profile_ && profile_elapsed_ms() < profile_->duration_ms();
 }
 
 // --- profiles ------------------------------------------------------------------------------
@@ -391,7 +391,7 @@ void MotionModel::plan_to(double goal) {
   const double top = motor_.top_speed(duty_cap(), conditions_.supply_v);
   const double fastest_acceleration = p.stall_torque_nm / p.inertia;
   const double inf = std::numeric_limits<double>::infinity();
-  profile_start_ = next_tick_ - tick_;
+  profile_start_ = state_time_;
   if (classic() || !items_->profile_velocity) {
     // 1.0 joint mode: Moving Speed (0: as fast as the motor goes); MX 1.0 Goal Acceleration
     // (0: no limit); PRO: Goal Velocity and no profile.
@@ -427,7 +427,7 @@ void MotionModel::plan_to(double goal) {
 void MotionModel::hold() {
   wake();
   const double here = motor_.state().position;
-  profile_start_ = next_tick_ - tick_;
+  profile_start_ = state_time_;
   profile_ = Profile::hold(here);
   step_profile_ = false;
   velocity_demand_ = 0;
@@ -526,6 +526,7 @@ void MotionModel::advance_to(sim::SimTime now) {
     if (resting_) {
       // Nothing changes until an input does: jump to the first tick after `now`.
       next_tick_ += ((now - next_tick_) / tick_ + 1) * tick_;
+      state_time_ = next_tick_ - tick_;
       break;
     }
     run_tick();
@@ -542,6 +543,7 @@ void MotionModel::advance_to(sim::SimTime now) {
 void MotionModel::run_tick() {
   const MotorState before = motor_.state();
   const bool was_running = profile_running();
+  state_time_ = next_tick_;
   motor_.step(command(), conditions_);
   protect();
   publish();
@@ -726,7 +728,7 @@ void MotionModel::publish_modern() {
   const bool running = profile_running() && torque_on();
   const bool positional = position_mode() && torque_on();
   if (positional && profile_) {
-    const ProfilePoint point = profile_->at(profile_elapsed_ms() - Ms(tick_).count());
+    const ProfilePoint point = profile_->at(profile_elapsed_ms());
     put(items_->position_trajectory, round_to(dir * point.position + homing()));
     put(items_->velocity_trajectory, round_to(dir * point.velocity / p.velocity_unit));
   } else if (mode() == Mode::Velocity && torque_on()) {
@@ -745,7 +747,7 @@ void MotionModel::publish_modern() {
         status |= kProfileOngoing;
       }
       const double turn = p.pulses_per_rev;
-      const ProfilePoint point = profile_->at(profile_elapsed_ms() - Ms(tick_).count());
+      const ProfilePoint point = profile_->at(profile_elapsed_ms());
       if (std::abs(point.position - s.position) > kFollowingErrorRev * turn) {
         status |= kFollowingError;
       }

@@ -50,6 +50,37 @@ class DaemonTest(unittest.TestCase):
         self.assertEqual(port.status2(), (2, 0, bytes([0x00, 0x02, 0x00, 0x00])))
         port.close()
 
+    def test_a_goal_moves_the_servo_in_real_time_along_its_profile(self):
+        self.start("--servo", "xm430-w350:1")
+        port = Port(self.link)
+
+        def write(address, value, size):
+            port.write(packet2(1, WRITE, bytes([address, 0]) + value.to_bytes(size, "little", signed=True)))
+            self.assertEqual(port.status2(), (1, 0, b""))
+
+        def read(address, size):
+            port.write(packet2(1, READ, bytes([address, 0, size, 0])))
+            servo_id, error, data = port.status2()
+            self.assertEqual((servo_id, error), (1, 0))
+            return int.from_bytes(data, "little", signed=True)
+
+        start = read(132, 4)  # Present Position
+        write(112, 200, 4)  # Profile Velocity: 200 x 0.229 rev/min = 3.1 pulses/ms
+        write(64, 1, 1)  # Torque Enable
+        write(116, start + 1000, 4)  # Goal Position
+        began = time.monotonic()
+        seen_moving = False
+        while read(132, 4) != start + 1000:
+            seen_moving = seen_moving or read(122, 1) == 1  # Moving
+            self.assertLess(time.monotonic() - began, 10, "the servo never arrived")
+        elapsed = time.monotonic() - began
+        self.assertTrue(seen_moving)
+        self.assertGreater(elapsed, 0.3)  # 1000 pulses at 3.1 pulses/ms: 0.32 s modelled
+        while read(122, 1) != 0:  # Moving clears at the tick after the last step
+            self.assertLess(time.monotonic() - began, 10, "the servo never stopped")
+        self.assertEqual(read(123, 1) & 0x01, 0x01)  # Moving Status: in position
+        port.close()
+
     def test_protocol_1_servo_at_1_mbps_on_a_mixed_bus(self):
         self.start("--servo", "xm430-w350:1", "--servo", "ax-12a:5")
         port = Port(self.link, 1000000)  # AX-12A factory rate; the XM430 hears noise

@@ -45,6 +45,7 @@ constexpr std::int64_t kHwOverheating = 0x04;
 constexpr std::int64_t kHwOverload = 0x20;
 
 constexpr double kXPulsesPerRev = 4096;
+constexpr std::int64_t kTurn = 4096;  // X pulses per revolution
 
 /// One servo on a hand-advanced simulated clock, driven by bus instructions.
 struct Rig {
@@ -239,12 +240,12 @@ TEST_CASE("Extended Position Control Mode goes across turns with Homing Offset",
   CHECK(rig.write("goal_position", -1'048'575) == kOk);
   REQUIRE(rig.write("profile_velocity", 300) == kOk);
   REQUIRE(rig.write("torque_enable", 1) == kOk);
-  REQUIRE(rig.write("goal_position", 3 * 4096 + 1000 + 7) == kOk);
+  REQUIRE(rig.write("goal_position", 3 * kTurn + 1000 + 7) == kOk);
   rig.wait(5000);
-  CHECK(rig.get("present_position") == 3 * 4096 + 1000 + 7);
-  REQUIRE(rig.write("goal_position", -2 * 4096) == kOk);
+  CHECK(rig.get("present_position") == 3 * kTurn + 1000 + 7);
+  REQUIRE(rig.write("goal_position", -2 * kTurn) == kOk);
   rig.wait(10000);
-  CHECK(rig.get("present_position") == -2 * 4096);
+  CHECK(rig.get("present_position") == -2 * kTurn);
   // A reboot brings the position back within one turn, still offset by Homing Offset.
   rig.reboot();
   // The shaft was at -2 · 4096 - 1000: within one turn that is 3096, plus the offset.
@@ -280,7 +281,7 @@ TEST_CASE("Changing Operating Mode resets the profile, Goal PWM and Goal Current
   CHECK(rig.get("goal_pwm") == rig.get("pwm_limit"));
   CHECK(rig.get("goal_current") == rig.get("current_limit"));
   // Back to Position Control Mode: the position returns within one turn.
-  rig.servo.table().set("present_position", 3 * 4096 + 10);
+  rig.servo.table().set("present_position", 3 * kTurn + 10);
   REQUIRE(rig.write("operating_mode", kPositionMode) == kOk);
   CHECK(rig.get("present_position") == 10);
 }
@@ -288,7 +289,7 @@ TEST_CASE("Changing Operating Mode resets the profile, Goal PWM and Goal Current
 TEST_CASE("Torque on holds where the shaft is and wraps the position in Position mode",
           "[model][motion]") {
   Rig rig("xm430-w350");
-  rig.servo.table().set("present_position", 4096 + 123);
+  rig.servo.table().set("present_position", kTurn + 123);
   REQUIRE(rig.write("torque_enable", 1) == kOk);
   CHECK(rig.get("present_position") == 123);
   CHECK(rig.get("goal_position") == 123);
@@ -461,7 +462,7 @@ TEST_CASE("AX wheel mode turns by Moving Speed output with bit 10 for CW", "[mod
   // Half of the no-load speed (59 rev/min at 12 V, here 10 V): about 221 units of 0.111 rev/min.
   CHECK(std::abs((speed & 1023) - 221) <= 5);
   CHECK(rig.get("moving") == 1);
-  const std::int64_t before = rig.servo.motion().motor().position;
+  const double before = rig.servo.motion().motor().position;
   rig.wait(500);
   CHECK(rig.servo.motion().motor().position < before);
   REQUIRE(rig.write("moving_speed", 0) == kOk);
@@ -568,4 +569,73 @@ TEST_CASE(
   CHECK(image(lazy) == image(again));
   CHECK(image(lazy) == image(eager));
   CHECK(lazy.servo.motion().motor() == eager.servo.motion().motor());
+}
+
+TEST_CASE(
+    "Current Control Mode spins the unloaded shaft up to its top speed, and a load "
+    "balances it",
+    "[model][motion]") {
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", 0) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("goal_current", 200) == kOk);  // 0.538 A: 0.96 N·m
+  rig.wait(1000);
+  // Top speed at 12.7 V: 46 rev/min · 12.7 / 12 = 48.7 rev/min = 212.6 units.
+  CHECK(std::abs(rig.get("present_velocity") - 213) <= 2);
+  // A load larger than the motor's torque turns it back.
+  rig.conditions([](model::Conditions& c) { c.external_load_nm = -2.0; });
+  rig.wait(1000);
+  CHECK(rig.get("present_velocity") < 0);
+  CHECK(std::abs(rig.get("present_current")) <= 200);
+}
+
+TEST_CASE("PWM Control Mode runs at the share of the no-load speed Goal PWM gives",
+          "[model][motion]") {
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", 16) == kOk);
+  CHECK(rig.get("goal_pwm") == 885);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("goal_pwm", -442) == kOk);  // 50 % backwards
+  rig.wait(1000);
+  CHECK(std::abs(rig.get("present_velocity") + 106) <= 2);
+  CHECK(std::abs(rig.get("present_pwm") + 442) <= 5);
+  REQUIRE(rig.write("goal_pwm", 0) == kOk);
+  rig.wait(1000);
+  CHECK(rig.get("present_velocity") == 0);
+  CHECK(rig.get("moving") == 0);
+}
+
+TEST_CASE("MX-28(2.0) reports Present Load in 0.1 % of the maximum torque", "[model][motion]") {
+  Rig rig("mx-28-2");
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  rig.conditions([](model::Conditions& c) { c.external_load_nm = 1.25; });  // half of 2.5 N·m
+  rig.wait(100);
+  CHECK(rig.get("present_load") == -500);
+}
+
+TEST_CASE("A PH54 moves in its own units with its profile acceleration unit", "[model][motion]") {
+  Rig rig("ph54-200-s500-r");
+  REQUIRE(rig.write("profile_velocity", 1000) == kOk);      // 10 rev/min
+  REQUIRE(rig.write("profile_acceleration", 2000) == kOk);  // 2000 rev/min²
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  const std::int64_t start = rig.get("present_position");
+  REQUIRE(rig.write("goal_position", start + 200'000) == kOk);
+  rig.wait(500);
+  CHECK(rig.get("moving_status") == (kTrapezoidal | kProfileOngoing));
+  CHECK(rig.get("present_velocity") == 1000);
+  rig.wait(2000);
+  CHECK(rig.get("present_position") == start + 200'000);
+  CHECK(rig.get("moving") == 0);
+}
+
+TEST_CASE("XL-320 shuts down through Hardware Error Status with its own bits", "[model][motion]") {
+  Rig rig("xl-320");
+  REQUIRE(rig.get("shutdown") == 3);  // overload and overheating
+  REQUIRE(rig.write("shutdown", 7) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  rig.conditions([](model::Conditions& c) { c.supply_v = 10.0; });  // above 9.0 V
+  rig.wait(10);
+  CHECK(rig.get("hardware_error_status") == 0x04);
+  CHECK(rig.get("torque_enable") == 0);
+  CHECK(rig.ping_error() == kAlert);
 }
