@@ -104,7 +104,8 @@ class MotionModel {
   ControlTable& table_;
   sim::SimDuration tick_;
   sim::SimTime next_tick_;
-  sim::SimTime state_time_{};  // the time of the last tick run: the motor's state is from then  // the next tick to run (the first is one period after power-on)
+  sim::SimTime state_time_{};  // the time of the last tick run: the motor's state is from then  //
+                               // the next tick to run (the first is one period after power-on)
   MotorPhysics motor_;
   Conditions conditions_;
   FaultSet injected_ = 0;
