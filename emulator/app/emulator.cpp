@@ -45,8 +45,8 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
     for (const ServoConfig& servo : port_config.servos) {
-      model::Servo& added =
-          port->bus->add_servo(std::make_unique<model::Servo>(library.find(servo.model), servo.id));
+      model::Servo& added = port->bus->add_servo(
+          std::make_unique<model::Servo>(library.find(servo.model), servo.id, options.tick));
       for (const auto& [key, value] : servo.items) {
         added.table().set(key, value);
       }

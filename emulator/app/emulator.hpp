@@ -30,6 +30,8 @@ struct RunOptions {
   std::optional<std::filesystem::path> state;
   /// Write every packet both ways here as JSON lines (docs/trace.md).
   std::optional<std::filesystem::path> trace;
+  /// The motion model's tick period (docs/motion.md).
+  sim::SimDuration tick = std::chrono::milliseconds(1);
 };
 
 /// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, and a

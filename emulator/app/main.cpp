@@ -22,6 +22,11 @@ constexpr int kExitBadInput = 2;
 constexpr const char* kDefaultServos = "xm430-w350:1-3";
 constexpr const char* kDefaultLink = "/tmp/dxlemu-dxl0";
 
+// --tick-hz: 1 kHz by default (docs/motion.md); 10 Hz ~ 10 kHz accepted.
+constexpr int kDefaultTickHz = 1000;
+constexpr int kMinTickHz = 10;
+constexpr int kMaxTickHz = 10000;
+
 // --timing names (docs/timing.md).
 const std::map<std::string, dxlemu::app::TimingMode> kTimingModes = {
     {"realtime", dxlemu::app::TimingMode::Realtime},
@@ -192,6 +197,11 @@ int main(int argc, char** argv) {
   run->add_option("--trace", options.trace,
                   "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
       ->type_name("FILE");
+  int tick_hz = kDefaultTickHz;
+  run->add_option("--tick-hz", tick_hz,
+                  "Motion model ticks per second of simulated time (docs/motion.md)")
+      ->check(CLI::Range(kMinTickHz, kMaxTickHz))
+      ->capture_default_str();
   std::string log_level = "info";
   run->add_option("--log-level", log_level, "Messages on stderr: error, warn, info or debug")
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}))
@@ -208,6 +218,7 @@ int main(int argc, char** argv) {
     return run_command([&] {
       dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(log_level));
       options.timing = kTimingModes.at(timing);
+      options.tick = std::chrono::nanoseconds(std::chrono::seconds(1)) / tick_hz;
       const auto library = load_library(model_dirs);
       dxlemu::app::BusConfig config;
       if (!config_file.empty()) {

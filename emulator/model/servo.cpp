@@ -50,8 +50,8 @@ bool is_v1_family(Family family) {
 
 }  // namespace
 
-Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id)
-    : table_(std::move(spec)), motion_(table_) {
+Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDuration tick)
+    : table_(std::move(spec)), motion_(table_, tick) {
   table_.set("id", id);
   commit_deferred();
 }

@@ -37,8 +37,10 @@ struct ServoResponse {
 /// out. Rules and choices: docs/servo.md.
 class Servo {
  public:
-  /// A servo of `spec` at factory settings, except for `id`.
-  Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id);
+  /// A servo of `spec` at factory settings, except for `id`, whose motion model ticks every
+  /// `tick` of simulated time.
+  Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id,
+        sim::SimDuration tick = std::chrono::milliseconds(1));
   // The control table's hooks point into the servo: it stays where it was made.
   Servo(const Servo&) = delete;
   Servo& operator=(const Servo&) = delete;

@@ -639,3 +639,25 @@ TEST_CASE("XL-320 shuts down through Hardware Error Status with its own bits", "
   CHECK(rig.get("torque_enable") == 0);
   CHECK(rig.ping_error() == kAlert);
 }
+
+TEST_CASE("A slower tick moves the shaft in coarser steps to the same place", "[model][motion]") {
+  Servo servo(test::shipped_model("xm430-w350"), 1, milliseconds(10));
+  CHECK(servo.motion().tick() == milliseconds(10));
+  const auto write = [&](std::uint16_t address, Bytes data) {
+    return servo
+        .execute({Protocol::V2, 1, wire::Write{address, std::move(data)}},
+                 model::Addressing::Unicast)
+        .error;
+  };
+  REQUIRE(write(112, {100, 0, 0, 0}) == kOk);  // Profile Velocity
+  REQUIRE(write(64, {1}) == kOk);
+  REQUIRE(write(116, {0xE8, 0x0B, 0, 0}) == kOk);  // Goal Position 3048
+  servo.advance_to(sim::SimTime{} + milliseconds(15));
+  const std::int64_t at15 = servo.table().get("present_position");
+  servo.advance_to(sim::SimTime{} + milliseconds(19));
+  CHECK(servo.table().get("present_position") == at15);  // no tick between 10 and 20 ms
+  servo.advance_to(sim::SimTime{} + milliseconds(20));
+  CHECK(servo.table().get("present_position") > at15);
+  servo.advance_to(sim::SimTime{} + std::chrono::seconds(2));
+  CHECK(servo.table().get("present_position") == 3048);
+}
