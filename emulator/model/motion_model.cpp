@@ -212,6 +212,12 @@ void MotionModel::on_goal_position(std::int64_t goal) {
       return;
     }
     table_.set(*items_->torque_enable, 1);
+    velocity_demand_ = motor_.state().velocity;
+    // Torque on in Position Control Mode resets the position within one turn, as for a write of
+    // Torque Enable; the goal just written is then the target rather than the present position.
+    if (mode() == Mode::Position && !classic()) {
+      wrap_to_one_turn();
+    }
   }
   if (position_mode()) {
     plan_to(raw_goal(goal));
@@ -341,7 +347,19 @@ double MotionModel::homing() const {
 
 double MotionModel::raw_goal(std::int64_t goal) const {
   // Present Position = direction · actual + Homing Offset.
-  return direction() * (static_cast<double>(goal) - homing());
+  const double raw = direction() * (static_cast<double>(goal) - homing());
+  if (!classic() || multi_turn()) {
+    return raw;
+  }
+  // 1.0 joint mode reads and commands positions within one turn: the goal is in the turn the
+  // shaft is in now (after turns in wheel mode, too).
+  const double turn = motor_.params().pulses_per_rev;
+  return std::floor(motor_.state().position / turn) * turn + raw;
+}
+
+bool MotionModel::multi_turn() const {
+  return table_.spec().family == Family::Mx1 && get(items_->cw_angle_limit) == kMultiTurnLimit &&
+         get(items_->ccw_angle_limit) == kMultiTurnLimit;
 }
 
 std::int64_t MotionModel::present_position() const {
@@ -447,7 +465,17 @@ void MotionModel::goal_to_present() {
   }
 }
 
+void MotionModel::republish() {
+  publish();
+}
+
 void MotionModel::stop() {
+  // Current and PWM Control Mode stop too: their goal goes to 0.
+  if (mode() == Mode::Current) {
+    put(items_->goal_current, 0);
+  } else if (mode() == Mode::Pwm && !classic()) {
+    put(items_->goal_pwm, 0);
+  }
   hold();
 }
 
@@ -461,6 +489,10 @@ void MotionModel::clear_turns() {
   wake();
   wrap_to_one_turn();
   profile_.reset();
+  // A servo holding with torque on now holds at the wrapped position, not at the old goal.
+  if (torque_on()) {
+    hold();
+  }
   publish();
 }
 
@@ -607,7 +639,13 @@ DriveCommand MotionModel::modern_command() {
       const auto acc = static_cast<double>(get(items_->profile_acceleration));
       double rate = std::numeric_limits<double>::infinity();
       if (acc > 0 && (get(items_->drive_mode) & kTimeBased) != 0) {
-        rate = std::abs(goal) / acc;
+        // A change of Goal Velocity takes Profile Acceleration ms: the rate is set when the goal
+        // changes, from the velocity the ramp had then.
+        if (goal != ramp_goal_) {
+          ramp_goal_ = goal;
+          ramp_rate_ = std::abs(goal - velocity_demand_) / acc;
+        }
+        rate = ramp_rate_;
       } else if (acc > 0 && p.acceleration_unit) {
         rate = acc * *p.acceleration_unit;
       }
@@ -765,13 +803,10 @@ void MotionModel::publish_classic() {
   const ModelSpec& spec = table_.spec();
   if (items_->present_position) {
     const ItemSpec& item = spec.items[*items_->present_position];
-    const bool multi_turn = spec.family == Family::Mx1 &&
-                            get(items_->cw_angle_limit) == kMultiTurnLimit &&
-                            get(items_->ccw_angle_limit) == kMultiTurnLimit;
     double position = s.position;
-    if (!multi_turn) {
-      // Joint and wheel mode read the position within one turn (0 ~ 1023 over 300° on AX:
-      // the dead zone beyond reads as the nearest end).
+    if (!multi_turn()) {
+      // Joint and wheel mode read the position within one turn; past the item's range (the
+      // 60° dead zone of AX/RX) it reads as the range's end, 1023 (docs/motion.md).
       position -= std::floor(position / p.pulses_per_rev) * p.pulses_per_rev;
     }
     std::int64_t value = round_to(position + homing());

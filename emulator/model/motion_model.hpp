@@ -52,6 +52,10 @@ class MotionModel {
   /// within one turn again.
   void after_reboot();
 
+  /// The table's Present values were re-initialised (Factory Reset): they show the shaft, the
+  /// winding and the supply again.
+  void republish();
+
   /// Bus Watchdog expiry: stop and hold where the shaft is.
   void stop();
 
@@ -91,6 +95,7 @@ class MotionModel {
   void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
   void on_operating_mode();
   double raw_goal(std::int64_t goal) const;
+  bool multi_turn() const;
   std::int64_t present_position() const;
   void wrap_to_one_turn();
   void absorb_device_changes();
@@ -103,9 +108,8 @@ class MotionModel {
 
   ControlTable& table_;
   sim::SimDuration tick_;
-  sim::SimTime next_tick_;
-  sim::SimTime state_time_{};  // the time of the last tick run: the motor's state is from then  //
-                               // the next tick to run (the first is one period after power-on)
+  sim::SimTime next_tick_;     // the next tick to run (the first is one period after power-on)
+  sim::SimTime state_time_{};  // the last tick run: the motor's state is from then
   MotorPhysics motor_;
   Conditions conditions_;
   FaultSet injected_ = 0;
@@ -114,6 +118,8 @@ class MotionModel {
   std::optional<Profile> profile_;
   sim::SimTime profile_start_{};
   double velocity_demand_ = 0;     // velocity mode: the ramped velocity, pulses/ms
+  double ramp_goal_ = 0;           // time-based velocity mode: the goal the ramp rate is for
+  double ramp_rate_ = 0;           // pulses/ms², set when that goal changed
   double at_limit_ms_ = 0;         // how long the motor has been at its torque limit
   bool overload_latched_ = false;  // 1.0: until Torque Limit is written
   bool step_profile_ = false;      // the profile is a step (Profile Velocity 0): no type

@@ -107,7 +107,10 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   limited.torque_cap_nm = cap;
   double torque = 0;
   double velocity = 0;
-  switch (command.kind) {
+  // A controller with no torque to give (Torque Limit 0 after Alarm Shutdown, Goal Current 0)
+  // leaves the shaft as free as torque off does.
+  const DriveCommand::Kind kind = cap > 0 ? command.kind : DriveCommand::Kind::Off;
+  switch (kind) {
     case DriveCommand::Kind::Off:
       cap = 0;
       velocity = free_velocity(conditions);
@@ -145,13 +148,14 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   state_.torque_nm = torque;
   state_.current_a = torque / params_.torque_constant();
   // Duty: the winding's IR drop plus the back-EMF, over the supply.
-  state_.duty = supply > 0 ? std::clamp(params_.nominal_voltage_v / supply *
-                                            (state_.current_a / params_.stall_current_a +
-                                             (command.kind == DriveCommand::Kind::Off
-                                                  ? 0.0
-                                                  : velocity / params_.no_load_speed)),
-                                        -1.0, 1.0)
-                           : 0.0;
+  state_.duty =
+      supply > 0
+          ? std::clamp(
+                params_.nominal_voltage_v / supply *
+                    (state_.current_a / params_.stall_current_a +
+                     (kind == DriveCommand::Kind::Off ? 0.0 : velocity / params_.no_load_speed)),
+                -1.0, 1.0)
+          : 0.0;
   heat(conditions);
 }
 

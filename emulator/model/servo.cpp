@@ -324,6 +324,7 @@ ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
   const std::int64_t id = table_.get("id");
   const std::int64_t baud = table_.get("baud_rate");
   table_.load_initial(true);
+  motion_.republish();
   if (option == wire::factory_reset::kResetAllButId ||
       option == wire::factory_reset::kResetAllButIdAndBaud) {
     table_.set("id", id);

@@ -661,3 +661,106 @@ TEST_CASE("A slower tick moves the shaft in coarser steps to the same place", "[
   servo.advance_to(sim::SimTime{} + std::chrono::seconds(2));
   CHECK(servo.table().get("present_position") == 3048);
 }
+
+TEST_CASE("Factory Reset re-initialises the table but not the shaft or the winding",
+          "[model][motion]") {
+  Rig rig("xm430-w350");
+  rig.servo.table().set("present_position", 3000);
+  rig.servo.table().set("present_temperature", 60);
+  rig.wait(1);
+  const auto r =
+      rig.servo.execute({Protocol::V2, 1, wire::FactoryReset{0x02}}, model::Addressing::Unicast);
+  REQUIRE(r.error == kOk);
+  rig.wait(1);
+  CHECK(rig.get("present_position") == 3000);
+  CHECK(rig.get("present_temperature") >= 59);
+}
+
+TEST_CASE("Torque Limit 0 leaves an AX shaft free instead of coasting on", "[model][motion]") {
+  Rig rig("ax-12a");
+  REQUIRE(rig.write("goal_position", 1000) == kOk);
+  rig.wait(50);
+  REQUIRE(rig.get("moving") == 1);
+  REQUIRE(rig.write("torque_limit", 0) == kOk);
+  rig.wait(5);
+  const std::int64_t stopped = rig.get("present_position");
+  rig.wait(500);
+  CHECK(rig.get("present_position") == stopped);
+  CHECK(rig.get("moving") == 0);
+}
+
+TEST_CASE("AX joint mode after wheel turns goes to the goal within the present turn",
+          "[model][motion]") {
+  Rig rig("ax-12a");
+  REQUIRE(rig.write("cw_angle_limit", 0) == kOk);
+  REQUIRE(rig.write("ccw_angle_limit", 0) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("moving_speed", 1023) == kOk);
+  rig.wait(5000);  // several turns
+  REQUIRE(rig.write("moving_speed", 0) == kOk);
+  rig.wait(500);
+  REQUIRE(rig.write("ccw_angle_limit", 1023) == kOk);  // back to joint mode
+  const std::int64_t here = rig.get("present_position");
+  const std::int64_t goal = here < 900 ? here + 100 : here - 100;
+  REQUIRE(rig.write("moving_speed", 0) == kOk);
+  REQUIRE(rig.write("goal_position", goal) == kOk);
+  rig.wait(500);  // 100 pulses at full speed take about 100 ms; a turn over a second
+  CHECK(rig.get("present_position") == goal);
+}
+
+TEST_CASE("Torque On by Goal Update turns torque on and goes to the goal within one turn",
+          "[model][motion]") {
+  Rig rig("xm430-w350");
+  rig.servo.table().set("present_position", 2 * kTurn + 100);
+  REQUIRE(rig.write("drive_mode", 0x08) == kOk);
+  REQUIRE(rig.write("goal_position", 300) == kOk);
+  CHECK(rig.get("torque_enable") == 1);
+  rig.wait(200);
+  CHECK(rig.get("present_position") == 300);
+}
+
+TEST_CASE("Time-based Velocity Control Mode comes back to rest in Profile Acceleration ms",
+          "[model][motion]") {
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", kVelocityMode) == kOk);
+  REQUIRE(rig.write("drive_mode", kTimeBased) == kOk);
+  REQUIRE(rig.write("profile_acceleration", 200) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("goal_velocity", 100) == kOk);
+  rig.wait(100);
+  CHECK(std::abs(rig.get("present_velocity") - 50) <= 1);
+  rig.wait(200);
+  CHECK(rig.get("present_velocity") == 100);
+  REQUIRE(rig.write("goal_velocity", 0) == kOk);
+  rig.wait(201);
+  CHECK(rig.get("present_velocity") == 0);
+  CHECK(rig.get("moving") == 0);
+}
+
+TEST_CASE("Bus Watchdog expiry stops PWM Control Mode too", "[model][motion]") {
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", 16) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("goal_pwm", 400) == kOk);
+  rig.wait(500);
+  REQUIRE(rig.get("present_velocity") > 50);
+  rig.servo.expire_bus_watchdog();
+  rig.wait(500);
+  CHECK(rig.get("goal_pwm") == 0);
+  CHECK(rig.get("present_velocity") == 0);
+}
+
+TEST_CASE("Clear with torque on holds at the position within one turn", "[model][motion]") {
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", kExtendedMode) == kOk);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  REQUIRE(rig.write("goal_position", 3 * kTurn + 5) == kOk);
+  rig.wait(5000);
+  REQUIRE(rig.get("moving") == 0);
+  const auto r = rig.servo.execute({Protocol::V2, 1, wire::Clear{0x01, {0x44, 0x58, 0x4C, 0x22}}},
+                                   model::Addressing::Unicast);
+  REQUIRE(r.error == kOk);
+  CHECK(rig.get("goal_position") == 5);
+  rig.wait(1000);
+  CHECK(rig.get("present_position") == 5);
+}
