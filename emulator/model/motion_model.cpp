@@ -50,6 +50,8 @@ constexpr double kMx1AccelerationDegS2 = 8.583;
 constexpr double kMsPerSecond = 1000;
 constexpr double kDeciVolt = 10;
 constexpr std::int64_t kRealtimeTickWrap = 32768;
+// Compliance Slope's smallest representative value (includes/control_table_compliance_slope.md).
+constexpr std::int64_t kMinComplianceSlope = 2;
 
 std::int64_t round_to(double v) {
   return static_cast<std::int64_t>(std::llround(v));
@@ -104,7 +106,11 @@ struct MotionModel::Items {
         present_voltage(s.index_of("present_input_voltage") ? s.index_of("present_input_voltage")
                                                             : s.index_of("present_voltage")),
         present_temperature(s.index_of("present_temperature")),
-        realtime_tick(s.index_of("realtime_tick")) {}
+        realtime_tick(s.index_of("realtime_tick")),
+        cw_compliance_margin(s.index_of("cw_compliance_margin")),
+        ccw_compliance_margin(s.index_of("ccw_compliance_margin")),
+        cw_compliance_slope(s.index_of("cw_compliance_slope")),
+        ccw_compliance_slope(s.index_of("ccw_compliance_slope")) {}
 
   std::optional<std::size_t> operating_mode, control_mode, drive_mode, torque_enable, goal_position,
       goal_velocity, goal_current, goal_torque, goal_pwm, goal_acceleration, profile_velocity,
@@ -113,7 +119,8 @@ struct MotionModel::Items {
       temperature_limit, min_voltage_limit, max_voltage_limit, shutdown, hardware_error_status,
       present_position, present_velocity, present_speed, present_current, present_load, present_pwm,
       sensed_current, velocity_trajectory, position_trajectory, moving, moving_status,
-      present_voltage, present_temperature, realtime_tick;
+      present_voltage, present_temperature, realtime_tick, cw_compliance_margin,
+      ccw_compliance_margin, cw_compliance_slope, ccw_compliance_slope;
 };
 
 MotionModel::MotionModel(ControlTable& table, sim::SimDuration tick)
@@ -602,8 +609,33 @@ DriveCommand MotionModel::classic_command() {
     return c;
   }
   c.kind = DriveCommand::Kind::Follow;
-  c.target = profile_ ? profile_->at(profile_elapsed_ms()).position : motor_.state().position;
+  c.target = profile_ ? profile_->at(profile_elapsed_ms()).position + compliance_offset()
+                      : motor_.state().position;
   return c;
+}
+
+double MotionModel::compliance_offset() const {
+  // AX, RX, EX (includes/control_table_compliance_slope.md): no torque within the Compliance
+  // Margin, then torque rising over the Compliance Slope. Under an external load the shaft
+  // settles where that torque meets the load: margin + slope × load / torque cap, on the side
+  // the load pushes it (docs/motion.md).
+  const double load = conditions_.external_load_nm;
+  const double cap = torque_cap();
+  if (!items_->cw_compliance_margin || load == 0 || cap <= 0) {
+    return 0;
+  }
+  const bool ccw = load > 0;
+  const auto margin =
+      static_cast<double>(get(ccw ? items_->ccw_compliance_margin : items_->cw_compliance_margin));
+  const std::int64_t slope_data =
+      get(ccw ? items_->ccw_compliance_slope : items_->cw_compliance_slope);
+  // "Data representative value is actually used": the power of two at or below it, at least 2.
+  std::int64_t slope = kMinComplianceSlope;
+  while (slope * 2 <= slope_data) {
+    slope *= 2;
+  }
+  return sign_of(load) *
+         (margin + static_cast<double>(slope) * std::min(1.0, std::abs(load) / cap));
 }
 
 DriveCommand MotionModel::modern_command() {

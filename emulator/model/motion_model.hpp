@@ -77,6 +77,7 @@ class MotionModel {
   DriveCommand command();
   DriveCommand modern_command();
   DriveCommand classic_command();
+  double compliance_offset() const;
   std::optional<Mode> mode() const;
   bool classic() const;
   bool wheel_mode() const;

@@ -66,6 +66,7 @@ class DaemonTest(unittest.TestCase):
 
         start = read(132, 4)  # Present Position
         write(112, 200, 4)  # Profile Velocity: 200 x 0.229 rev/min = 3.1 pulses/ms
+        write(108, 50, 4)  # Profile Acceleration: t1 = 64 x 200 / 50 = 256 ms
         write(64, 1, 1)  # Torque Enable
         write(116, start + 1000, 4)  # Goal Position
         began = time.monotonic()
@@ -75,7 +76,7 @@ class DaemonTest(unittest.TestCase):
             self.assertLess(time.monotonic() - began, 10, "the servo never arrived")
         elapsed = time.monotonic() - began
         self.assertTrue(seen_moving)
-        self.assertGreater(elapsed, 0.3)  # 1000 pulses at 3.1 pulses/ms: 0.32 s modelled
+        self.assertGreater(elapsed, 0.5)  # t3 = t1 + 64 x 1000 / 200 = 576 ms modelled
         while read(122, 1) != 0:  # Moving clears at the tick after the last step
             self.assertLess(time.monotonic() - began, 10, "the servo never stopped")
         self.assertEqual(read(123, 1) & 0x01, 0x01)  # Moving Status: in position

@@ -764,3 +764,18 @@ TEST_CASE("Clear with torque on holds at the position within one turn", "[model]
   rig.wait(1000);
   CHECK(rig.get("present_position") == 5);
 }
+
+TEST_CASE("AX compliance: a load deflects the held shaft by margin plus slope share",
+          "[model][motion]") {
+  Rig rig("ax-12a");
+  REQUIRE(rig.write("goal_position", 512) == kOk);
+  REQUIRE(rig.write("ccw_compliance_slope", 40) == kOk);  // representative value 32
+  rig.conditions([](model::Conditions& c) { c.external_load_nm = 0.5; });
+  rig.wait(200);
+  // Margin 1 + slope 32 × 0.5 N·m / 1.5 N·m (Torque Limit 1023 of the stall torque): 11.7
+  // pulses towards CCW.
+  CHECK(rig.get("present_position") == 512 + 12);
+  rig.conditions([](model::Conditions& c) { c.external_load_nm = 0; });
+  rig.wait(200);
+  CHECK(rig.get("present_position") == 512);
+}
