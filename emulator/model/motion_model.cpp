@@ -505,7 +505,7 @@ void MotionModel::clear_turns() {
 
 void MotionModel::after_reboot() {
   // The table was just re-initialised: its Present values are not device-side changes.
-  resting_ = false;
+  activity_ = Activity::Active;
   // includes/control_table_opmode_note.md: at power-on and reboot Present Position is within one
   // turn again (not for MX 1.0 multi-turn, whose position is absolute within its range).
   if (!classic()) {
@@ -536,7 +536,7 @@ void MotionModel::set_injected(FaultSet faults) {
 
 void MotionModel::wake() {
   absorb_device_changes();
-  resting_ = false;
+  activity_ = Activity::Active;
 }
 
 void MotionModel::absorb_device_changes() {
@@ -544,28 +544,32 @@ void MotionModel::absorb_device_changes() {
   if (items_->present_position && table_.get(*items_->present_position) != published_.position) {
     published_.position = table_.get(*items_->present_position);
     motor_.set_position(raw_goal(published_.position));
-    resting_ = false;
+    activity_ = Activity::Active;
   }
   if (items_->present_temperature &&
       table_.get(*items_->present_temperature) != published_.temperature) {
     published_.temperature = table_.get(*items_->present_temperature);
     motor_.set_temperature(static_cast<double>(published_.temperature));
-    resting_ = false;
+    activity_ = Activity::Active;
   }
   if (items_->present_voltage && table_.get(*items_->present_voltage) != published_.voltage) {
     published_.voltage = table_.get(*items_->present_voltage);
     conditions_.supply_v = static_cast<double>(published_.voltage) / kDeciVolt;
-    resting_ = false;
+    activity_ = Activity::Active;
   }
 }
 
 void MotionModel::advance_to(sim::SimTime now) {
   absorb_device_changes();
   while (next_tick_ <= now) {
-    if (resting_) {
+    if (activity_ == Activity::Resting) {
       // Nothing changes until an input does: jump to the first tick after `now`.
       next_tick_ += ((now - next_tick_) / tick_ + 1) * tick_;
       state_time_ = next_tick_ - tick_;
+      break;
+    }
+    if (activity_ == Activity::Cooling) {
+      cool_until(now);
       break;
     }
     run_tick();
@@ -586,8 +590,37 @@ void MotionModel::run_tick() {
   motor_.step(command(), conditions_);
   protect();
   publish();
-  resting_ = motor_.state() == before && !was_running && !motor_.state().at_limit &&
-             velocity_demand_ == (mode() == Mode::Velocity && torque_on() ? velocity_demand_ : 0.0);
+  const MotorState& after = motor_.state();
+  MotorState same_heat = before;
+  same_heat.temperature_c = after.temperature_c;
+  const bool still = after == same_heat && !was_running && !after.at_limit &&
+                     (mode() == Mode::Velocity || velocity_demand_ == 0);
+  if (!still) {
+    activity_ = Activity::Active;
+  } else if (after.temperature_c == before.temperature_c) {
+    activity_ = Activity::Resting;
+  } else {
+    // Only the winding's temperature moves, and no current flows: cool_until() runs just that.
+    activity_ = after.current_a == 0 ? Activity::Cooling : Activity::Active;
+  }
+}
+
+void MotionModel::cool_until(sim::SimTime now) {
+  // Equivalent to full ticks while the shaft is still and no current flows: each would only
+  // step the temperature, whose relaxation is monotonic, so the errors it raises or clears are
+  // those at the end (protect() once), and the Present values those at the end (publish() once).
+  const auto ticks = (now - next_tick_) / tick_ + 1;
+  bool settled = false;
+  for (std::int64_t i = 0; i < ticks && !settled; ++i) {
+    settled = motor_.cool(conditions_);
+  }
+  state_time_ = next_tick_ + (ticks - 1) * tick_;
+  next_tick_ += ticks * tick_;
+  protect();
+  publish();
+  if (settled) {
+    activity_ = Activity::Resting;
+  }
 }
 
 DriveCommand MotionModel::command() {

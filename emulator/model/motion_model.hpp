@@ -74,6 +74,7 @@ class MotionModel {
 
   void install_hooks();
   void run_tick();
+  void cool_until(sim::SimTime now);
   DriveCommand command();
   DriveCommand modern_command();
   DriveCommand classic_command();
@@ -115,7 +116,10 @@ class MotionModel {
   Conditions conditions_;
   FaultSet injected_ = 0;
   std::unique_ptr<Items> items_;
-  bool resting_ = false;
+  // Active: every tick runs. Cooling: only the temperature moves (cool_until()). Resting: ticks
+  // change nothing and are skipped.
+  enum class Activity { Active, Cooling, Resting };
+  Activity activity_ = Activity::Active;
   std::optional<Profile> profile_;
   sim::SimTime profile_start_{};
   double velocity_demand_ = 0;     // velocity mode: the ramped velocity, pulses/ms

@@ -159,6 +159,12 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   heat(conditions);
 }
 
+bool MotorPhysics::cool(const Conditions& conditions) {
+  const double before = state_.temperature_c;
+  heat(conditions);
+  return state_.temperature_c == before;
+}
+
 void MotorPhysics::heat(const Conditions& conditions) {
   // First-order thermal model, stepped exactly: T relaxes towards ambient + P·Rth.
   const double power = state_.current_a * state_.current_a * params_.resistance();

@@ -63,6 +63,10 @@ class MotorPhysics {
   const MotorState& state() const { return state_; }
   /// Device side: moves the shaft without dynamics (Clear, position reset to one turn).
   void set_position(double position) { state_.position = position; }
+  /// One tick of the thermal model alone: what step() does to a still shaft with no current.
+  /// Returns true once the temperature has reached its steady value (further ticks change
+  /// nothing).
+  bool cool(const Conditions& conditions);
   /// Device side: sets the winding temperature.
   void set_temperature(double celsius) { state_.temperature_c = celsius; }
   const MotorParams& params() const { return params_; }

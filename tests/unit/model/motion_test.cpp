@@ -555,6 +555,14 @@ TEST_CASE(
     go(4000);
     rig.conditions([](model::Conditions& c) { c.blocked = false; });
     go(9000);
+    // Hot, then torque off: only the winding cools for minutes (ticks that step the temperature
+    // alone), and a Protocol 1.0-style read of everything at the end.
+    rig.write("torque_enable", 0);
+    rig.conditions([](model::Conditions& c) {
+      c.ambient_c = 30;
+      c.external_load_nm = 0;
+    });
+    go(400'000);
   };
   Rig lazy("xm430-w350");
   Rig eager("xm430-w350");
@@ -569,6 +577,7 @@ TEST_CASE(
   CHECK(image(lazy) == image(again));
   CHECK(image(lazy) == image(eager));
   CHECK(lazy.servo.motion().motor() == eager.servo.motion().motor());
+  CHECK(std::abs(lazy.servo.motion().motor().temperature_c - 30) < 1);
 }
 
 TEST_CASE(
