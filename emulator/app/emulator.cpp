@@ -1,7 +1,11 @@
 #include "app/emulator.hpp"
 
+#include <unistd.h>
+
+#include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "app/log.hpp"
@@ -11,6 +15,12 @@
 #include "io/pty_link.hpp"
 
 namespace dxlemu::app {
+namespace {
+
+// After a control API shutdown, how long replies still queued get to reach their clients.
+constexpr std::chrono::milliseconds kShutdownFlush{100};
+
+}  // namespace
 
 struct Emulator::Port {
   PortConfig config;
@@ -66,9 +76,81 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
   restore(state);
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
   driver_.set_after_events([this] { save_state_if_changed(); });
+  api_ = std::make_unique<control::Api>(*this);
+  control_ = std::make_unique<io::ControlServer>(
+      io_, options_.control.value_or(default_control_path()),
+      [this](std::string_view line, io::ControlSession&) {
+        driver_.catch_up();
+        std::string reply = api_->handle(line);
+        driver_.rearm();
+        save_state_if_changed();  // a set of an EEPROM item is kept like a bus write
+        return reply;
+      },
+      [](std::size_t limit) {
+        return nlohmann::json{
+            {"id", nullptr},
+            {"ok", false},
+            {"error", "request longer than " + std::to_string(limit) + " bytes: discarded"}}
+            .dump();
+      });
 }
 
 Emulator::~Emulator() = default;
+
+std::filesystem::path default_control_path() {
+  const char* runtime = std::getenv("XDG_RUNTIME_DIR");
+  const std::filesystem::path dir = runtime != nullptr && *runtime != '\0' ? runtime : "/tmp";
+  return dir / ("dxlemu-" + std::to_string(::getpid()) + ".sock");
+}
+
+std::vector<std::string> Emulator::port_names() const {
+  std::vector<std::string> names;
+  names.reserve(ports_.size());
+  for (const auto& port : ports_) {
+    names.push_back(port->config.name);
+  }
+  return names;
+}
+
+bus::Bus* Emulator::bus(std::string_view port) {
+  for (const auto& p : ports_) {
+    if (p->config.name == port) {
+      return p->bus.get();
+    }
+  }
+  return nullptr;
+}
+
+nlohmann::json Emulator::port_info(std::string_view port) const {
+  for (const auto& p : ports_) {
+    if (p->config.name == port) {
+      nlohmann::json info = {{"pty", p->pty->slave_path()}};
+      if (p->config.link) {
+        info["link"] = p->config.link->string();
+      }
+      return info;
+    }
+  }
+  return nlohmann::json::object();
+}
+
+sim::SimTime Emulator::now() const {
+  return scheduler_.now();
+}
+
+bool Emulator::manual_clock() const {
+  return options_.timing == TimingMode::Manual;
+}
+
+void Emulator::step_clock(sim::SimDuration d) {
+  scheduler_.advance_by(d);
+}
+
+void Emulator::request_shutdown() {
+  log(LogLevel::Info, "stopping on the control API's shutdown");
+  shutting_down_ = true;
+  boost::asio::post(io_, [this] { io_.stop(); });
+}
 
 void Emulator::restore(const BusState& state) {
   for (const auto& port : ports_) {
@@ -145,11 +227,17 @@ void Emulator::run(std::ostream& out) {
       ready["link"] = port->config.link->string();
     }
     ready["servos"] = servos;
+    ready["control"] = control_->path().string();
     out << ready.dump() << std::endl;  // flushed: scripts wait for this line
     log(LogLevel::Info, port->config.name + ": " + std::to_string(port->config.servos.size()) +
                             " servos on " + port->pty->slave_path());
   }
   io_.run();
+  if (shutting_down_) {
+    // Let the shutdown reply reach its client.
+    io_.restart();
+    io_.run_for(kShutdownFlush);
+  }
   save_state_if_changed();
   for (const auto& port : ports_) {
     const bus::BusStats& s = port->bus->stats();

@@ -11,6 +11,9 @@
 #include "app/bus_config.hpp"
 #include "app/bus_state.hpp"
 #include "app/model_library.hpp"
+#include "control/api.hpp"
+#include "control/target.hpp"
+#include "io/control_server.hpp"
 #include "io/realtime_driver.hpp"
 #include "sim/scheduler.hpp"
 
@@ -30,21 +33,37 @@ struct RunOptions {
   std::optional<std::filesystem::path> state;
   /// Write every packet both ways here as JSON lines (docs/trace.md).
   std::optional<std::filesystem::path> trace;
+  /// The control API's socket (docs/control-api.md); default: default_control_path().
+  std::optional<std::filesystem::path> control;
   /// The motion model's tick period (docs/motion.md).
   sim::SimDuration tick = std::chrono::milliseconds(1);
 };
 
-/// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, and a
-/// PTY and a Bus per port. Construction opens everything or throws; nothing runs half-configured.
-class Emulator {
+/// The control socket used when --control is not given: dxlemu-PID.sock in $XDG_RUNTIME_DIR, or
+/// in /tmp.
+std::filesystem::path default_control_path();
+
+/// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, a PTY
+/// and a Bus per port, and the control socket. Construction opens everything or throws; nothing
+/// runs half-configured. It is the control API's Target (docs/control-api.md).
+class Emulator : public control::Target {
  public:
   /// Builds every port of `config` (already validated by parse_config or check_servo), restores
   /// EEPROM from the state file and opens the trace. Throws ConfigError for a bad state file or
   /// trace path, std::system_error when a PTY or link cannot be made.
   Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options);
-  ~Emulator();
+  ~Emulator() override;
   Emulator(const Emulator&) = delete;
   Emulator& operator=(const Emulator&) = delete;
+
+  // control::Target
+  std::vector<std::string> port_names() const override;
+  bus::Bus* bus(std::string_view port) override;
+  nlohmann::json port_info(std::string_view port) const override;
+  sim::SimTime now() const override;
+  bool manual_clock() const override;
+  void step_clock(sim::SimDuration d) override;
+  void request_shutdown() override;
 
   /// Writes one readiness line per port (JSON) to `out`, serves until SIGINT or SIGTERM, then
   /// saves the state and returns; the destructor removes the links.
@@ -63,6 +82,9 @@ class Emulator {
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
   std::vector<std::vector<std::uint8_t>> saved_eeprom_;  // per servo, ports in order
+  std::unique_ptr<control::Api> api_;
+  std::unique_ptr<io::ControlServer> control_;
+  bool shutting_down_ = false;
 };
 
 }  // namespace dxlemu::app

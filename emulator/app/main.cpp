@@ -194,6 +194,10 @@ int main(int argc, char** argv) {
   run->add_option("--state", options.state,
                   "Keep every servo's EEPROM in FILE across restarts (written atomically)")
       ->type_name("FILE");
+  run->add_option("--control", options.control,
+                  "The control API's Unix socket (docs/control-api.md); default: "
+                  "$XDG_RUNTIME_DIR or /tmp, dxlemu-PID.sock")
+      ->type_name("PATH");
   run->add_option("--trace", options.trace,
                   "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
       ->type_name("FILE");

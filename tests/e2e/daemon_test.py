@@ -211,7 +211,8 @@ class DaemonTest(unittest.TestCase):
         self.assertEqual(daemon.ready["port"], "arm")
         second = json.loads(daemon.proc.stdout.readline())
         self.assertEqual(second, {"event": "ready", "port": "legs", "pty": second["pty"],
-                                  "link": legs, "servos": [{"id": 7, "model": "ax-12a"}]})
+                                  "link": legs, "servos": [{"id": 7, "model": "ax-12a"}],
+                                  "control": daemon.ready["control"]})
         port = Port(arm)
         port.write(packet2(2, READ, bytes([9, 0, 1, 0])))  # Return Delay Time
         self.assertEqual(port.status2(), (2, 0, b"\x00"))

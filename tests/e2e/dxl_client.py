@@ -8,6 +8,7 @@ import json
 import os
 import select
 import signal
+import socket
 import subprocess
 import termios
 import time
@@ -128,3 +129,45 @@ class Daemon:
         finally:
             self.proc.stdout.close()
             self.proc.stderr.close()
+
+
+class Control:
+    """A client of the control API: newline-delimited JSON over the daemon's Unix socket."""
+
+    def __init__(self, path: str, timeout: float = 5.0):
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        self.sock.settimeout(timeout)
+        self.sock.connect(path)
+        self.buffer = b""
+        self.next_id = 1
+
+    def send_line(self, line: bytes) -> None:
+        self.sock.sendall(line + b"\n")
+
+    def reply(self) -> dict:
+        while b"\n" not in self.buffer:
+            chunk = self.sock.recv(65536)
+            if not chunk:
+                raise AssertionError("the control socket closed")
+            self.buffer += chunk
+        line, self.buffer = self.buffer.split(b"\n", 1)
+        return json.loads(line)
+
+    def request(self, cmd: str, **args) -> dict:
+        """Sends {"id": n, "cmd": cmd, ...args} and returns the whole reply."""
+        request_id = self.next_id
+        self.next_id += 1
+        self.send_line(json.dumps({"id": request_id, "cmd": cmd, **args}).encode())
+        reply = self.reply()
+        assert reply.get("id") == request_id, reply
+        return reply
+
+    def call(self, cmd: str, **args):
+        """The result of a request that must succeed."""
+        reply = self.request(cmd, **args)
+        if not reply.get("ok"):
+            raise AssertionError(f"{cmd} failed: {reply.get('error')}")
+        return reply["result"]
+
+    def close(self) -> None:
+        self.sock.close()

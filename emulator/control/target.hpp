@@ -1,0 +1,36 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "sim/sim_time.hpp"
+
+namespace dxlemu::control {
+
+/// What the control API sees and does: the facade every command goes through, so that control/
+/// never reaches into the daemon's wiring. app::Emulator implements it; unit tests use a double.
+/// Single-threaded: called from the one thread that runs the buses.
+class Target {
+ public:
+  virtual ~Target() = default;
+  /// The port names, in config order.
+  virtual std::vector<std::string> port_names() const = 0;
+  /// The bus of `port`, or nullptr when there is no such port. The target owns it.
+  virtual bus::Bus* bus(std::string_view port) = 0;
+  /// Extra facts about a port for `list` (e.g. {"pty": "...", "link": "..."}): an object, which
+  /// may be empty (or null).
+  virtual nlohmann::json port_info(std::string_view port) const = 0;
+  /// Simulated time now (the scheduler's clock).
+  virtual sim::SimTime now() const = 0;
+  /// True when simulated time only moves by clock.step (--timing manual).
+  virtual bool manual_clock() const = 0;
+  /// Moves simulated time forward by `d`, running everything due (manual timing only).
+  virtual void step_clock(sim::SimDuration d) = 0;
+  /// Asks the daemon to stop after this reply.
+  virtual void request_shutdown() = 0;
+};
+
+}  // namespace dxlemu::control

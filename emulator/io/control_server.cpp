@@ -1,0 +1,457 @@
+#include "io/control_server.hpp"
+
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <array>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/write.hpp>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace dxlemu::io {
+namespace {
+
+using boost::asio::local::stream_protocol;
+
+constexpr std::size_t kReadChunk = 4096;
+// Owner read and write: only the user who started dxlemu may connect.
+constexpr mode_t kSocketMode = S_IRUSR | S_IWUSR;
+// How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of file
+// descriptors). Retrying at once would spin, as the listening socket stays readable.
+constexpr std::chrono::milliseconds kAcceptRetry{100};
+
+std::string describe(const std::filesystem::path& path) {
+  return "control socket " + path.string();
+}
+
+[[noreturn]] void fail(int error, const std::string& what) {
+  throw std::system_error(error, std::generic_category(), what);
+}
+
+void check(const boost::system::error_code& ec, const std::string& what) {
+  if (ec) {
+    // Boost's system category on POSIX carries errno values.
+    throw std::system_error(ec.value(), std::system_category(), what);
+  }
+}
+
+// The reply when a callback throws although it is documented not to.
+std::string internal_error(std::string_view what) {
+  return nlohmann::ordered_json{
+      {"id", nullptr}, {"ok", false}, {"error", "internal error: " + std::string(what)}}
+      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+template <typename Fn>
+std::string call_safely(Fn&& fn) {
+  try {
+    return std::forward<Fn>(fn)();
+  } catch (const std::exception& e) {
+    return internal_error(e.what());
+  } catch (...) {
+    return internal_error("unknown exception");
+  }
+}
+
+sockaddr_un address_of(const std::filesystem::path& path) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(static_cast<char*>(address.sun_path), path.c_str(), path.native().size());
+  return address;
+}
+
+// A socket file nobody listens on is left behind by a server that crashed: replace it. Anything
+// else at `path` belongs to someone and is refused. The probe is a non-blocking connect, so a
+// live server with a full backlog (EAGAIN) counts as live rather than blocking us.
+void remove_stale_socket(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) {
+      return;
+    }
+    fail(errno, "inspecting " + describe(path));
+  }
+  if (!S_ISSOCK(st.st_mode)) {
+    fail(EEXIST, describe(path) + ": the path exists and is not a socket");
+  }
+  const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (probe < 0) {
+    fail(errno, "probing " + describe(path));
+  }
+  const sockaddr_un address = address_of(path);
+  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API
+  const int connected =
+      ::connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address);
+  const int error = errno;
+  ::close(probe);
+  if (connected == 0 || error == EAGAIN) {
+    fail(EADDRINUSE, describe(path) + ": another server is listening on it");
+  }
+  if (error != ECONNREFUSED) {
+    fail(error, "probing " + describe(path));
+  }
+  if (::unlink(path.c_str()) != 0 && errno != ENOENT) {
+    fail(errno, "removing the stale " + describe(path));
+  }
+}
+
+}  // namespace
+
+struct ControlServer::State : std::enable_shared_from_this<State> {
+  class Session;
+
+  State(boost::asio::io_context& io, std::filesystem::path path, Handler handler, Oversize oversize,
+        std::size_t max_line);
+
+  void accept();
+  void retry_accept_later();
+  /// Closes `session` and reports it to on_close from a handler of its own (never re-entrantly
+  /// from inside a handler or send()).
+  void close(Session& session);
+  void report_closed();
+  /// Closes everything (the server's destructor).
+  void stop();
+
+  boost::asio::io_context& io;
+  std::filesystem::path path;
+  Handler handler;
+  Oversize oversize;
+  std::size_t max_line;
+  std::function<void(ControlSession&)> on_close;
+  stream_protocol::acceptor acceptor;
+  boost::asio::steady_timer retry_timer;
+  // Identity of the socket file we created, so that the destructor unlinks only our own.
+  dev_t device = 0;
+  ino_t inode = 0;
+  std::uint64_t next_id = 1;
+  std::map<std::uint64_t, std::shared_ptr<Session>> open;
+  // Closed, with on_close not yet called.
+  std::vector<std::shared_ptr<Session>> closing;
+  bool stopped = false;
+};
+
+/// One connection. Owned by the State's `open` map while open, and by its own pending I/O
+/// handlers; it holds only a weak reference to the State, so handlers that complete after the
+/// server is gone do nothing.
+class ControlServer::State::Session final : public ControlSession,
+                                            public std::enable_shared_from_this<Session> {
+ public:
+  Session(std::weak_ptr<State> state, stream_protocol::socket socket, std::uint64_t id)
+      : state_(std::move(state)), socket_(std::move(socket)), id_(id) {}
+
+  void send(std::string line) override;
+  std::uint64_t id() const override { return id_; }
+
+  void start() { read_more(); }
+  /// Closes the socket (pending reads and writes complete as aborted); returns false if it was
+  /// closed already.
+  bool shut();
+
+ private:
+  void read_more();
+  void consume(std::string_view bytes, State& state);
+  void answer(std::string_view line, State& state);
+  void write_next();
+  void close_self();
+
+  std::weak_ptr<State> state_;
+  stream_protocol::socket socket_;
+  std::uint64_t id_;
+  std::array<char, kReadChunk> read_buffer_{};
+  std::string line_;         // the request received so far, without its line end
+  bool discarding_ = false;  // inside an oversize line, until its newline
+  bool reading_ = false;
+  bool peer_done_ = false;  // the client shut down its sending side
+  bool closed_ = false;
+  std::deque<std::string> write_queue_;  // front() is being written
+  std::size_t queued_bytes_ = 0;
+};
+
+ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path path,
+                            Handler handler, Oversize oversize, std::size_t max_line)
+    : io(io),
+      path(std::move(path)),
+      handler(std::move(handler)),
+      oversize(std::move(oversize)),
+      max_line(max_line),
+      acceptor(io),
+      retry_timer(io) {
+  const std::string what = describe(this->path);
+  if (this->path.empty() || this->path.native().size() >= sizeof(sockaddr_un::sun_path)) {
+    fail(ENAMETOOLONG, what + ": a Unix socket path must have 1 to " +
+                           std::to_string(sizeof(sockaddr_un::sun_path) - 1) + " bytes");
+  }
+  remove_stale_socket(this->path);
+  boost::system::error_code ec;
+  acceptor.open(stream_protocol(), ec);
+  check(ec, "creating " + what);
+  // Linux creates the socket file with the socket's own mode (less the umask), so after this no
+  // other user can connect even in the moment between bind and the chmod below (which makes
+  // sure on systems where it does not).
+  ::fchmod(acceptor.native_handle(), kSocketMode);
+  acceptor.bind(stream_protocol::endpoint(this->path.string()), ec);
+  check(ec, "binding " + what);
+  struct stat st {};
+  const bool made =
+      ::chmod(this->path.c_str(), kSocketMode) == 0 && ::lstat(this->path.c_str(), &st) == 0;
+  const int error = errno;
+  if (made) {
+    device = st.st_dev;
+    inode = st.st_ino;
+    acceptor.listen(boost::asio::socket_base::max_listen_connections, ec);
+  }
+  if (!made || ec) {
+    ::unlink(this->path.c_str());
+    check(made ? ec : boost::system::error_code(error, boost::system::system_category()),
+          "setting up " + what);
+  }
+}
+
+void ControlServer::State::accept() {
+  acceptor.async_accept([weak = weak_from_this()](const boost::system::error_code& ec,
+                                                  stream_protocol::socket socket) {
+    const auto self = weak.lock();
+    if (!self || self->stopped) {
+      return;
+    }
+    if (ec) {
+      self->retry_accept_later();
+      return;
+    }
+    const std::uint64_t id = self->next_id++;
+    auto session = std::make_shared<Session>(weak, std::move(socket), id);
+    self->open.emplace(id, session);
+    session->start();
+    self->accept();
+  });
+}
+
+void ControlServer::State::retry_accept_later() {
+  retry_timer.expires_after(kAcceptRetry);
+  retry_timer.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
+    const auto self = weak.lock();
+    if (!ec && self && !self->stopped) {
+      self->accept();
+    }
+  });
+}
+
+void ControlServer::State::close(Session& session) {
+  if (!session.shut()) {
+    return;
+  }
+  const auto found = open.find(session.id());
+  if (found == open.end()) {
+    return;
+  }
+  closing.push_back(std::move(found->second));
+  open.erase(found);
+  // on_close typically erases from a subscriber list that send() may be iterating right now (an
+  // event sent to a client that stopped reading): report from a handler of its own.
+  if (closing.size() == 1) {
+    boost::asio::post(io, [weak = weak_from_this()] {
+      const auto self = weak.lock();
+      if (self && !self->stopped) {
+        self->report_closed();
+      }
+    });
+  }
+}
+
+void ControlServer::State::report_closed() {
+  const auto closed = std::exchange(closing, {});
+  for (const auto& session : closed) {
+    if (on_close) {
+      on_close(*session);
+    }
+  }
+}
+
+void ControlServer::State::stop() {
+  stopped = true;
+  boost::system::error_code ignored;
+  acceptor.close(ignored);
+  retry_timer.cancel();
+  for (auto& [id, session] : open) {
+    session->shut();
+    closing.push_back(std::move(session));
+  }
+  open.clear();
+  // Only our own socket file: if another server replaced it meanwhile, leave theirs alone.
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0 && st.st_dev == device && st.st_ino == inode) {
+    ::unlink(path.c_str());
+  }
+  report_closed();
+}
+
+bool ControlServer::State::Session::shut() {
+  if (closed_) {
+    return false;
+  }
+  closed_ = true;
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+  return true;
+}
+
+void ControlServer::State::Session::close_self() {
+  if (const auto state = state_.lock()) {
+    state->close(*this);
+  } else {
+    shut();
+  }
+}
+
+void ControlServer::State::Session::send(std::string line) {
+  if (closed_) {
+    return;
+  }
+  if (queued_bytes_ > kMaxQueuedBytes) {
+    close_self();  // the client reads nothing; keeping its events would only exhaust memory
+    return;
+  }
+  line.push_back('\n');
+  queued_bytes_ += line.size();
+  write_queue_.push_back(std::move(line));
+  if (write_queue_.size() == 1) {
+    write_next();
+  }
+}
+
+void ControlServer::State::Session::write_next() {
+  boost::asio::async_write(
+      socket_, boost::asio::buffer(write_queue_.front()),
+      [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+        if (ec || self->closed_) {
+          self->write_queue_.clear();
+          self->queued_bytes_ = 0;
+          self->close_self();
+          return;
+        }
+        self->queued_bytes_ -= self->write_queue_.front().size();
+        self->write_queue_.pop_front();
+        if (!self->write_queue_.empty()) {
+          self->write_next();
+        } else if (self->peer_done_) {
+          self->close_self();  // every reply is out and no request can come
+          return;
+        }
+        self->read_more();  // in case reading paused for back-pressure
+      });
+}
+
+void ControlServer::State::Session::read_more() {
+  if (closed_ || reading_ || peer_done_ || queued_bytes_ > kPauseReadingAbove) {
+    return;
+  }
+  reading_ = true;
+  socket_.async_read_some(
+      boost::asio::buffer(read_buffer_),
+      [self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+        self->reading_ = false;
+        const auto state = self->state_.lock();
+        if (!state || state->stopped || self->closed_) {
+          return;
+        }
+        if (ec == boost::asio::error::eof) {
+          // A half-close (`nc -N`, socat) still gets the replies to its complete lines; an
+          // unfinished last line is dropped.
+          self->peer_done_ = true;
+          if (self->write_queue_.empty()) {
+            state->close(*self);
+          }
+          return;
+        }
+        if (ec) {
+          state->close(*self);
+          return;
+        }
+        self->consume(std::string_view(self->read_buffer_.data(), n), *state);
+        self->read_more();
+      });
+}
+
+// Lines are split here rather than with async_read_until so that a line is refused as soon as
+// it exceeds the limit, without buffering it, and the rest of it up to its newline is skipped.
+void ControlServer::State::Session::consume(std::string_view bytes, State& state) {
+  while (!bytes.empty() && !closed_ && !state.stopped) {
+    const std::size_t newline = bytes.find('\n');
+    const bool complete = newline != std::string_view::npos;
+    const std::string_view piece = bytes.substr(0, newline);
+    bytes.remove_prefix(complete ? newline + 1 : bytes.size());
+    if (discarding_) {
+      discarding_ = !complete;
+      continue;
+    }
+    // A trailing '\r' is not part of the line (and one still waiting for its '\n' may become
+    // that), so it does not count against the limit.
+    const std::size_t length = line_.size() + piece.size();
+    const char last = !piece.empty() ? piece.back() : (!line_.empty() ? line_.back() : '\0');
+    if ((last == '\r' ? length - 1 : length) > state.max_line) {
+      line_.clear();
+      discarding_ = !complete;
+      std::string reply = call_safely([&] { return state.oversize(state.max_line); });
+      if (!reply.empty()) {
+        send(std::move(reply));
+      }
+      continue;
+    }
+    line_.append(piece);
+    if (!complete) {
+      continue;
+    }
+    if (!line_.empty() && line_.back() == '\r') {
+      line_.pop_back();
+    }
+    if (!line_.empty()) {
+      answer(line_, state);
+    }
+    line_.clear();
+  }
+}
+
+void ControlServer::State::Session::answer(std::string_view line, State& state) {
+  std::string reply = call_safely([&] { return state.handler(line, *this); });
+  if (!reply.empty()) {
+    send(std::move(reply));
+  }
+}
+
+ControlServer::ControlServer(boost::asio::io_context& io, std::filesystem::path path,
+                             Handler handler, Oversize oversize, std::size_t max_line)
+    : state_(std::make_shared<State>(io, std::move(path), std::move(handler), std::move(oversize),
+                                     max_line)) {
+  state_->accept();
+}
+
+ControlServer::~ControlServer() {
+  state_->stop();
+}
+
+const std::filesystem::path& ControlServer::path() const {
+  return state_->path;
+}
+
+void ControlServer::on_close(std::function<void(ControlSession&)> callback) {
+  state_->on_close = std::move(callback);
+}
+
+std::size_t ControlServer::sessions() const {
+  return state_->open.size();
+}
+
+}  // namespace dxlemu::io

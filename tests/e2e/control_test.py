@@ -1,0 +1,88 @@
+"""End-to-end tests of the control API (docs/control-api.md): the real dxlemu binary, its
+Unix socket and its PTY at once."""
+import os
+import stat
+import tempfile
+import unittest
+
+from dxl_client import Control, Daemon, Port, packet2
+
+PING, READ = 0x01, 0x02
+
+
+class ControlTest(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.link = os.path.join(self.dir.name, "dxl0")
+        self.socket = os.path.join(self.dir.name, "control.sock")
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def start(self, *args):
+        daemon = Daemon("--link", self.link, "--control", self.socket, *args)
+        self.addCleanup(daemon.stop)
+        control = Control(daemon.ready["control"])
+        self.addCleanup(control.close)
+        return daemon, control
+
+    def test_the_readiness_line_names_the_socket_which_only_its_owner_may_use(self):
+        daemon, _ = self.start()
+        self.assertEqual(daemon.ready["control"], self.socket)
+        mode = os.stat(self.socket).st_mode
+        self.assertTrue(stat.S_ISSOCK(mode))
+        self.assertEqual(stat.S_IMODE(mode), 0o600)
+
+    def test_a_value_set_through_the_api_is_what_the_bus_reads(self):
+        _, control = self.start()
+        listing = control.call("list")
+        self.assertEqual([s["id"] for s in listing["ports"][0]["servos"]], [1, 2, 3])
+        control.call("set", port="dxl0", servo=2, item="present_temperature", value=70)
+        self.assertEqual(control.call("get", port="dxl0", servo=2, item="present_temperature")["value"], 70)
+        port = Port(self.link)
+        port.write(packet2(2, READ, bytes([146, 0, 1, 0])))  # Present Temperature
+        self.assertEqual(port.status2(), (2, 0, bytes([70])))
+        port.close()
+
+    def test_a_blocked_servo_overheats_on_a_stepped_clock_and_the_bus_shows_the_alert(self):
+        _, control = self.start("--timing", "manual")
+        control.call("set", servo=1, item="shutdown", value=0x04)  # Overheating only
+        control.call("set", servo=1, item="torque_enable", value=1)
+        control.call("condition.set", servo=1, blocked=True)
+        control.call("set", servo=1, item="goal_position", value=3000)
+        control.call("clock.step", ms=120000)
+        self.assertEqual(control.call("get", servo=1, item="hardware_error_status")["value"], 0x04)
+        port = Port(self.link)
+        port.write(packet2(1, PING))
+        servo_id, error, _ = port.status2()
+        self.assertEqual((servo_id, error), (1, 0x80))  # the alert bit
+        port.close()
+
+    def test_malformed_requests_get_errors_and_the_connection_stays_up(self):
+        _, control = self.start()
+        other = Control(self.socket)
+        self.addCleanup(other.close)
+        control.send_line(b"{not json")
+        self.assertFalse(control.reply()["ok"])
+        reply = control.request("gett")
+        self.assertFalse(reply["ok"])
+        self.assertIn("gett", reply["error"])
+        reply = control.request("get", servo=9, item="id")
+        self.assertFalse(reply["ok"])
+        reply = control.request("set", servo=1, item="present_temperature", value=300)
+        self.assertFalse(reply["ok"])
+        control.send_line(b"x" * 200000)
+        self.assertFalse(control.reply()["ok"])
+        self.assertEqual(control.call("clock.now").keys() >= {"ns"}, True)
+        self.assertEqual(other.call("get", servo=1, item="id")["value"], 1)
+
+    def test_shutdown_stops_the_daemon_and_removes_the_socket_and_the_link(self):
+        daemon, control = self.start()
+        self.assertTrue(control.request("shutdown")["ok"])
+        self.assertEqual(daemon.proc.wait(timeout=5), 0)
+        self.assertFalse(os.path.exists(self.socket))
+        self.assertFalse(os.path.exists(self.link))
+
+
+if __name__ == "__main__":
+    unittest.main()

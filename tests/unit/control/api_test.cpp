@@ -1,0 +1,485 @@
+// The control API (docs/control-api.md): JSON requests in, JSON replies out, no I/O. Every
+// command's success reply and every kind of malformed request, on real servos and a hand-stepped
+// clock.
+#include <catch2/catch.hpp>
+#include <deque>
+#include <memory>
+#include <string>
+
+#include "bus/bus.hpp"
+#include "bus/bus_rig.hpp"
+#include "bus/loopback_link.hpp"
+#include "control/api.hpp"
+#include "control/target.hpp"
+#include "shipped_model.hpp"
+#include "wire/instruction_encoder.hpp"
+
+using namespace dxlemu;
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+namespace {
+
+/// A Target of one or two ports of real servos on a hand-stepped clock.
+class FakeTarget : public control::Target {
+ public:
+  struct Port {
+    std::string name;
+    bus::LoopbackLink link;
+    bus::Bus bus;
+    Port(std::string port_name, sim::Scheduler& scheduler)
+        : name(std::move(port_name)), bus(scheduler, link) {}
+  };
+
+  sim::Scheduler scheduler;
+  std::deque<Port> ports;
+  bool manual = true;
+  bool shutdown_requested = false;
+
+  Port& add_port(const std::string& name) { return ports.emplace_back(name, scheduler); }
+  model::Servo& add(Port& port, const std::string& model, std::uint8_t id) {
+    return port.bus.add_servo(std::make_unique<model::Servo>(test::shipped_model(model), id));
+  }
+
+  std::vector<std::string> port_names() const override {
+    std::vector<std::string> names;
+    for (const auto& port : ports) {
+      names.push_back(port.name);
+    }
+    return names;
+  }
+  bus::Bus* bus(std::string_view name) override {
+    for (auto& port : ports) {
+      if (port.name == name) {
+        return &port.bus;
+      }
+    }
+    return nullptr;
+  }
+  json port_info(std::string_view name) const override {
+    return {{"pty", "/dev/pts/" + std::string(name)}};
+  }
+  sim::SimTime now() const override { return scheduler.now(); }
+  bool manual_clock() const override { return manual; }
+  void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
+  void request_shutdown() override { shutdown_requested = true; }
+};
+
+/// dxl0: two XM430-W350 (IDs 1 and 2); dxl1: one AX-12A (ID 3).
+struct Rig {
+  FakeTarget target;
+  FakeTarget::Port& dxl0 = target.add_port("dxl0");
+  FakeTarget::Port& dxl1 = target.add_port("dxl1");
+  model::Servo& xm1 = target.add(dxl0, "xm430-w350", 1);
+  model::Servo& xm2 = target.add(dxl0, "xm430-w350", 2);
+  model::Servo& ax3 = target.add(dxl1, "ax-12a", 3);
+  control::Api api{target};
+
+  /// The whole reply to `line`, parsed.
+  json reply(const std::string& line) { return json::parse(api.handle(line)); }
+  /// The result of a request that must succeed.
+  json result(const std::string& line) {
+    const json r = reply(line);
+    INFO(line << " -> " << r.dump());
+    REQUIRE(r["ok"] == true);
+    return r["result"];
+  }
+  /// The error text of a request that must fail.
+  std::string error(const std::string& line) {
+    const json r = reply(line);
+    INFO(line << " -> " << r.dump());
+    REQUIRE(r["ok"] == false);
+    return r["error"].get<std::string>();
+  }
+};
+
+}  // namespace
+
+// --- success replies -----------------------------------------------------------------------------
+
+TEST_CASE("list shows every port with its facts and the key state of each servo", "[control]") {
+  Rig rig;
+  CHECK(
+      rig.api.handle(R"({"id":1,"cmd":"list"})") ==
+      R"({"id":1,"ok":true,"result":{"ports":[)"
+      R"({"name":"dxl0","pty":"/dev/pts/dxl0","servos":[)"
+      R"({"id":1,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
+      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false},)"
+      R"({"id":2,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
+      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false}]},)"
+      R"({"name":"dxl1","pty":"/dev/pts/dxl1","servos":[)"
+      R"({"id":3,"model":"ax-12a","protocol":1,"baud":1000000,"torque":false,)"
+      R"("present_position":512,"present_temperature":25,"moving":false}]}]}})");
+}
+
+TEST_CASE("get reads an item by key, or an address range as little-endian bytes", "[control]") {
+  Rig rig;
+  rig.xm1.table().set("present_position", 0x12345);
+  CHECK(rig.api.handle(
+            R"({"id":2,"cmd":"get","port":"dxl0","servo":1,"item":"present_temperature"})") ==
+        R"({"id":2,"ok":true,"result":{"item":"present_temperature","value":25}})");
+  CHECK(rig.api.handle(R"({"id":3,"cmd":"get","port":"dxl0","servo":1,"address":132,"size":4})") ==
+        R"({"id":3,"ok":true,"result":{"address":132,"size":4,"value":74565,)"
+        R"("bytes":[69,35,1,0]}})");
+  // Any range within the table, even across items and reserved bytes.
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":1,"address":0,"size":2})") ==
+        json::parse(R"({"address":0,"size":2,"value":1020,"bytes":[252,3]})"));
+  // A signed item reads signed by key.
+  rig.xm1.table().set("present_current", -5);
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":1,"item":"present_current"})")["value"] ==
+        -5);
+}
+
+TEST_CASE("set of a Present value moves what get reads and the shaft stays there", "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":4,"cmd":"set","port":"dxl0","servo":1,)"
+                       R"("item":"present_position","value":1000})") ==
+        R"({"id":4,"ok":true,"result":{"item":"present_position","value":1000}})");
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":1,"item":"present_position"})")["value"] ==
+        1000);
+  // The motion model took it as where the shaft is: ticks keep it there.
+  rig.result(R"({"cmd":"clock.step","ms":50})");
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":1,"item":"present_position"})")["value"] ==
+        1000);
+  CHECK(rig.xm2.table().get("present_position") == 2048);  // the other servo is untouched
+}
+
+TEST_CASE("A value set through the API is what a bus Read returns", "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"present_temperature","value":70})");
+  const auto read = wire::encode_instruction({wire::Protocol::V2, 2, wire::Read{146, 1}});
+  rig.dxl0.bus.receive(read, rig.target.now(), test::BusRig::kBaud);
+  rig.result(R"({"cmd":"clock.step","ms":10})");
+  REQUIRE(rig.dxl0.link.deliveries().size() == 1);
+  CHECK(test::status_text(rig.dxl0.link.deliveries()[0].bytes) == "id=2 error=0x00 params=46");
+}
+
+TEST_CASE("set by address and size needs the range to be exactly one item", "[control]") {
+  Rig rig;
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"address":146,"size":1,"value":60})") ==
+        json::parse(R"({"item":"present_temperature","value":60})"));
+  CHECK(rig.xm1.table().get("present_temperature") == 60);
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"address":132,"size":2,"value":1})") ==
+        "address 132 size 2 is not exactly one item of xm430-w350: present_position at 132 is 4 "
+        "bytes");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"address":133,"size":1,"value":1})") ==
+        "address 133 size 1 is not exactly one item of xm430-w350");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"address":14,"size":1,"value":1})") ==
+        "address 14 size 1 is not exactly one item of xm430-w350");
+  CHECK(rig.xm1.table().get("present_position") == 2048);
+}
+
+TEST_CASE("set bypasses the bus's access rules: read-only, EEPROM locked, out of range",
+          "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"torque_enable","value":1})");
+  // EEPROM is locked while torque is on; the API writes it anyway.
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"temperature_limit",)"
+                   R"("value":60})")["value"] == 60);
+  // Beyond the item's range (Max Position Limit 4095) but within its 4 bytes.
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"max_position_limit",)"
+                   R"("value":100000})")["value"] == 100000);
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"model_number",)"
+                   R"("value":1})")["value"] == 1);
+}
+
+TEST_CASE("set of a goal with torque on moves the servo on a stepped clock", "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"torque_enable","value":1})");
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"goal_position","value":3000})");
+  rig.result(R"({"cmd":"clock.step","ms":2000})");
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":1,"item":"present_position"})")["value"] ==
+        3000);
+  const json listed = rig.result(R"({"cmd":"list"})");
+  CHECK(listed["ports"][0]["servos"][0]["torque"] == true);
+  CHECK(listed["ports"][0]["servos"][0]["moving"] == false);
+}
+
+TEST_CASE("set of the ID, baud rate or protocol takes effect on the bus at once", "[control]") {
+  Rig rig;
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"id","value":7})") ==
+        json::parse(R"({"item":"id","value":7})"));
+  CHECK(rig.xm1.id() == 7);
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl0","servo":7,"item":"id"})")["value"] == 7);
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":7,"item":"baud_rate","value":3})");
+  CHECK(rig.xm1.baud_bps() == 1000000);
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":7,"item":"protocol_type","value":1})");
+  CHECK(rig.xm1.protocol() == wire::Protocol::V1);
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":7,"item":"return_delay_time","value":0})");
+  CHECK(rig.xm1.return_delay() == sim::SimDuration{0});
+}
+
+TEST_CASE("condition.set changes one servo's conditions and the supply reaches the table",
+          "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":5,"cmd":"condition.set","port":"dxl0","servo":2,)"
+                       R"("ambient_temperature":40,"supply_voltage":11.1,"blocked":true})") ==
+        R"({"id":5,"ok":true,"result":{"ambient_temperature":40.0,"supply_voltage":11.1,)"
+        R"("external_load":0.0,"blocked":true}})");
+  const model::Conditions& c = rig.xm2.motion().conditions();
+  CHECK(c.ambient_c == 40);
+  CHECK(c.supply_v == 11.1);
+  CHECK(c.blocked);
+  CHECK(rig.xm1.motion().conditions().supply_v == 12.7);  // the other servo keeps its own
+  // The table shows the new supply from the next motion tick.
+  CHECK(rig.xm2.table().get("present_input_voltage") == 127);
+  rig.result(R"({"cmd":"clock.step","ms":1})");
+  CHECK(rig.result(
+            R"({"cmd":"get","port":"dxl0","servo":2,"item":"present_input_voltage"})")["value"] ==
+        111);
+  // A later change keeps what it does not name.
+  CHECK(rig.result(R"({"cmd":"condition.set","port":"dxl0","servo":2,"external_load":-0.5})") ==
+        json::parse(R"({"ambient_temperature":40.0,"supply_voltage":11.1,"external_load":-0.5,)"
+                    R"("blocked":true})"));
+}
+
+TEST_CASE("condition.set without a servo applies to every servo of the port", "[control]") {
+  Rig rig;
+  const double ax_supply = rig.ax3.motion().conditions().supply_v;
+  CHECK(rig.result(R"({"cmd":"condition.set","port":"dxl0","supply_voltage":10})") ==
+        json::parse(R"([{"id":1,"ambient_temperature":25.0,"supply_voltage":10.0,)"
+                    R"("external_load":0.0,"blocked":false},)"
+                    R"({"id":2,"ambient_temperature":25.0,"supply_voltage":10.0,)"
+                    R"("external_load":0.0,"blocked":false}])"));
+  CHECK(rig.xm1.motion().conditions().supply_v == 10);
+  CHECK(rig.xm2.motion().conditions().supply_v == 10);
+  CHECK(rig.ax3.motion().conditions().supply_v == ax_supply);  // another port
+  rig.result(R"({"cmd":"condition.set","port":"dxl1","supply_voltage":9.5})");
+  rig.result(R"({"cmd":"clock.step","ms":1})");
+  CHECK(rig.result(R"({"cmd":"get","port":"dxl1","servo":3,"item":"present_voltage"})")["value"] ==
+        95);
+}
+
+TEST_CASE("clock.now reports simulated time in nanoseconds and milliseconds", "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":6,"cmd":"clock.now"})") ==
+        R"({"id":6,"ok":true,"result":{"ns":0,"ms":0.0}})");
+  rig.target.scheduler.advance_by(1500us);
+  CHECK(rig.result(R"({"cmd":"clock.now"})") == json::parse(R"({"ns":1500000,"ms":1.5})"));
+}
+
+TEST_CASE("clock.step advances simulated time by ms, us or ns and runs what is due", "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":7,"cmd":"clock.step","ms":10})") ==
+        R"({"id":7,"ok":true,"result":{"ns":10000000,"ms":10.0}})");
+  CHECK(rig.result(R"({"cmd":"clock.step","us":2.5})") ==
+        json::parse(R"({"ns":10002500,"ms":10.0025})"));
+  CHECK(rig.result(R"({"cmd":"clock.step","ns":1})")["ns"] == 10002501);
+  // A Ping's status is due after its modelled delays: only a step delivers it.
+  const auto ping = wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}});
+  rig.dxl0.bus.receive(ping, rig.target.now(), test::BusRig::kBaud);
+  CHECK(rig.dxl0.link.deliveries().empty());
+  rig.result(R"({"cmd":"clock.step","ms":10})");
+  CHECK(rig.dxl0.link.deliveries().size() == 1);
+}
+
+TEST_CASE("stats reports every counter of every port, or of the one asked for", "[control]") {
+  Rig rig;
+  const auto ping = wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}});
+  rig.dxl0.bus.receive(ping, rig.target.now(), test::BusRig::kBaud);
+  rig.target.scheduler.advance_by(10ms);
+  const std::string dxl0 =
+      R"("dxl0":{"bytes_in":10,"frames":1,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
+      R"("impossible_lengths":0,"decode_errors":0,"replies":1,"collisions":0,"id_conflicts":0})";
+  const std::string dxl1 =
+      R"("dxl1":{"bytes_in":0,"frames":0,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
+      R"("impossible_lengths":0,"decode_errors":0,"replies":0,"collisions":0,"id_conflicts":0})";
+  CHECK(rig.api.handle(R"({"id":8,"cmd":"stats"})") ==
+        R"({"id":8,"ok":true,"result":{)" + dxl0 + "," + dxl1 + "}}");
+  CHECK(rig.api.handle(R"({"id":9,"cmd":"stats","port":"dxl1"})") ==
+        R"({"id":9,"ok":true,"result":{)" + dxl1 + "}}");
+}
+
+TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":10,"cmd":"shutdown"})") == R"({"id":10,"ok":true,"result":{}})");
+  CHECK(rig.target.shutdown_requested);
+  CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
+        R"({"id":11,"ok":true,"result":["list","get","set","condition.set","clock.now",)"
+        R"("clock.step","stats","shutdown","help"]})");
+}
+
+TEST_CASE("The port may be left out when there is only one", "[control]") {
+  FakeTarget target;
+  auto& port = target.add_port("arm");
+  target.add(port, "xm430-w350", 4);
+  control::Api api(target);
+  CHECK(api.handle(R"({"id":1,"cmd":"get","servo":4,"item":"id"})") ==
+        R"({"id":1,"ok":true,"result":{"item":"id","value":4}})");
+  CHECK(api.handle(R"({"id":2,"cmd":"condition.set","blocked":true})") ==
+        R"({"id":2,"ok":true,"result":[{"id":4,"ambient_temperature":25.0,"supply_voltage":12.7,)"
+        R"("external_load":0.0,"blocked":true}]})");
+}
+
+// --- the id --------------------------------------------------------------------------------------
+
+TEST_CASE("The id is echoed as given, and is null when the request has none", "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":42,"cmd":"clock.now"})").starts_with(R"({"id":42,"ok":true,)"));
+  CHECK(
+      rig.api.handle(R"({"id":"abc","cmd":"clock.now"})").starts_with(R"({"id":"abc","ok":true,)"));
+  CHECK(rig.api.handle(R"({"id":{"run":[1,2.5]},"cmd":"clock.now"})")
+            .starts_with(R"({"id":{"run":[1,2.5]},"ok":true,)"));
+  CHECK(rig.api.handle(R"({"cmd":"clock.now"})").starts_with(R"({"id":null,"ok":true,)"));
+  // Also on errors, as soon as the request is an object.
+  CHECK(rig.api.handle(R"({"id":"x","cmd":"gett"})").starts_with(R"({"id":"x","ok":false,)"));
+}
+
+// --- malformed requests --------------------------------------------------------------------------
+
+TEST_CASE("A line that is not JSON or not an object is refused with a null id", "[control]") {
+  Rig rig;
+  const std::string bad = rig.api.handle(R"({"id":1,"cmd")");
+  CHECK_THAT(bad,
+             Catch::StartsWith(R"({"id":null,"ok":false,"error":"not valid JSON: parse error)"));
+  CHECK_THAT(rig.error(""), Catch::StartsWith("not valid JSON: "));
+  CHECK_THAT(rig.error(R"({"cmd":"list"} {"cmd":"list"})"), Catch::StartsWith("not valid JSON: "));
+  CHECK(rig.api.handle(R"([1,2])") ==
+        R"({"id":null,"ok":false,"error":"a request must be a JSON object, e.g. )"
+        R"({\"id\":1,\"cmd\":\"list\"}"})");
+  CHECK(rig.error("7") == R"(a request must be a JSON object, e.g. {"id":1,"cmd":"list"})");
+  // Bytes that are not UTF-8 still make a reply that is JSON.
+  CHECK(json::parse(rig.api.handle("\"\xFF\xFE"))["ok"] == false);
+  // A runaway string is quoted only in part.
+  CHECK(rig.error("\"" + std::string(100000, 'a')).size() < 300);
+}
+
+TEST_CASE("A deeply nested request is refused without exhausting the stack", "[control]") {
+  Rig rig;
+  const std::string deep =
+      R"({"id":)" + std::string(100000, '[') + "1" + std::string(100000, ']') + R"(,"cmd":"list"})";
+  CHECK(rig.error(deep) == "the request nests deeper than 32 levels");
+}
+
+TEST_CASE("A request without a known cmd is refused naming the commands", "[control]") {
+  Rig rig;
+  const std::string commands =
+      "(commands: list, get, set, condition.set, clock.now, clock.step, stats, shutdown, help)";
+  CHECK(rig.error(R"({"id":1})") == "\"cmd\" is required " + commands);
+  CHECK(rig.error(R"({"id":1,"cmd":3})") == R"("cmd" must be a string)");
+  CHECK(rig.error(R"({"id":1,"cmd":"gett"})") == "unknown command \"gett\" " + commands);
+}
+
+TEST_CASE("A field the command does not take is refused, to catch typos", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"itme":"id"})") ==
+        R"(unknown field "itme" for get (it takes port, servo, item, address, size))");
+  CHECK(rig.error(R"({"cmd":"list","foo":1})") ==
+        R"(unknown field "foo" for list (it takes no arguments))");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","supply":11})") ==
+        R"(unknown field "supply" for condition.set (it takes port, servo, ambient_temperature, )"
+        R"(supply_voltage, external_load, blocked))");
+}
+
+TEST_CASE("Arguments of the wrong type are refused naming the argument", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":"1","item":"id"})") ==
+        R"("servo" must be an integer)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1.5,"item":"id"})") ==
+        R"("servo" must be an integer)");
+  CHECK(rig.error(R"({"cmd":"get","port":0,"servo":1,"item":"id"})") ==
+        R"("port" must be a string)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"item":146})") ==
+        R"("item" must be a string)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"led","value":true})") ==
+        R"("value" must be an integer)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"led","value":1.0})") ==
+        R"("value" must be an integer)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"led",)"
+                  R"("value":18446744073709551615})") == R"("value" is too large)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","blocked":1})") ==
+        R"("blocked" must be true or false)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","supply_voltage":"12"})") ==
+        R"("supply_voltage" must be a number)");
+  CHECK(rig.error(R"({"cmd":"clock.step","ms":"10"})") == R"("ms" must be a number)");
+}
+
+TEST_CASE("Missing or contradictory arguments are refused saying what is needed", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","item":"id"})") == R"("servo" is required)");
+  CHECK(rig.error(R"({"cmd":"get","servo":1,"item":"id"})") ==
+        R"("port" is required: there are 2 ports (dxl0, dxl1))");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1})") ==
+        R"(get needs "item", or "address" and "size")");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"address":132})") ==
+        R"("size" is required)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"item":"id","address":7})") ==
+        R"(give "item" or "address" and "size", not both)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"led"})") ==
+        R"("value" is required)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","servo":1})") ==
+        "condition.set needs at least one of ambient_temperature, supply_voltage, external_load, "
+        "blocked");
+}
+
+TEST_CASE("Unknown ports, servos and items are refused naming what exists", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl9","servo":1,"item":"id"})") ==
+        R"(port "dxl9" does not exist (ports: dxl0, dxl1))");
+  CHECK(rig.error(R"({"cmd":"stats","port":"dxl9"})") ==
+        R"(port "dxl9" does not exist (ports: dxl0, dxl1))");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":9,"item":"id"})") ==
+        "no servo 9 on dxl0 (servos: 1, 2)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl1","servo":1,"blocked":true})") ==
+        "no servo 1 on dxl1 (servos: 3)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"item":"present_temp"})") ==
+        R"(xm430-w350 has no item "present_temp")");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl1","servo":3,"item":"present_input_voltage",)"
+                  R"("value":1})") == R"(ax-12a has no item "present_input_voltage")");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl1","servo":3,"address":49,"size":2})") ==
+        "address 49 size 2 is outside the control table of ax-12a (0 ~ 49)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl1","servo":3,"address":-1,"size":1})") ==
+        "address -1 size 1 is outside the control table of ax-12a (0 ~ 49)");
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl0","servo":1,"address":0,"size":5})") ==
+        R"("size" must be 1 ~ 4)");
+}
+
+TEST_CASE("A value that does not fit the item is refused and changes nothing", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"present_temperature",)"
+                  R"("value":300})") == "value 300 does not fit present_temperature (1 byte)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"present_temperature",)"
+                  R"("value":-1})") == "value -1 does not fit present_temperature (1 byte)");
+  CHECK(rig.error(R"({"cmd":"set","port":"dxl0","servo":1,"item":"present_current",)"
+                  R"("value":40000})") == "value 40000 does not fit present_current (2 bytes)");
+  CHECK(rig.xm1.table().get("present_temperature") == 25);
+  CHECK(rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"present_current",)"
+                   R"("value":-32768})")["value"] == -32768);
+}
+
+TEST_CASE("condition.set refuses values outside sane ranges and changes nothing", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","servo":1,"supply_voltage":150})") ==
+        R"("supply_voltage" must be 0 ~ 100 V, got 150)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","servo":1,"ambient_temperature":-60,)"
+                  R"("blocked":true})") ==
+        R"("ambient_temperature" must be -50 ~ 200 °C, got -60)");
+  CHECK(rig.error(R"({"cmd":"condition.set","port":"dxl0","servo":1,"external_load":1e6})") ==
+        R"("external_load" must be -1000 ~ 1000 N·m, got 1000000.0)");
+  CHECK(!rig.xm1.motion().conditions().blocked);
+}
+
+TEST_CASE("clock.step needs the manual clock and one positive, bounded step", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"clock.step"})") == R"(clock.step needs one of "ms", "us" or "ns")");
+  CHECK(rig.error(R"({"cmd":"clock.step","ms":1,"ns":5})") ==
+        R"(clock.step takes only one of "ms", "us" or "ns")");
+  CHECK(rig.error(R"({"cmd":"clock.step","ms":0})") == R"("ms" must be positive)");
+  CHECK(rig.error(R"({"cmd":"clock.step","ns":-5})") == R"("ns" must be positive)");
+  CHECK(rig.error(R"({"cmd":"clock.step","us":0.0001})") == R"("us" must be at least 1 ns)");
+  CHECK(rig.error(R"({"cmd":"clock.step","ms":3600001})") ==
+        "one clock.step moves at most 3600000 ms");
+  CHECK(rig.target.now() == sim::SimTime{});
+  rig.target.manual = false;
+  CHECK(rig.error(R"({"cmd":"clock.step","ms":10})") == "clock.step needs --timing manual");
+  CHECK(rig.target.now() == sim::SimTime{});
+}
+
+TEST_CASE("Servos sharing an ID cannot be addressed one by one", "[control]") {
+  Rig rig;
+  rig.target.add(rig.dxl1, "ax-12a", 3);
+  CHECK(rig.error(R"({"cmd":"get","port":"dxl1","servo":3,"item":"id"})") ==
+        "2 servos on dxl1 have ID 3: the control API cannot tell them apart");
+  // The whole port still can be.
+  CHECK(rig.result(R"({"cmd":"condition.set","port":"dxl1","blocked":true})").size() == 2);
+}
