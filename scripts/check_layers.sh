@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # DESIGN.md: core code (sim, wire, model, bus, faults) and the control API's commands (control)
-# never include Asio and never read the wall
-# clock or sleeps. Time comes from the Scheduler or as an argument. Exits 1 naming each offending line.
+# never include Asio and never read the wall clock or sleep. Time comes from the Scheduler or as
+# an argument. Exits 1 naming each offending line.
 set -uo pipefail
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
 core_dirs=()
