@@ -15,6 +15,7 @@ using sim::SimTime;
 struct Bus::Station {
   model::Servo* servo = nullptr;
   SimTime booting_until{};  // silent before this (Reboot, Factory Reset, Backup restore)
+  bool attached = true;     // plugged in: powered and on the line
   std::optional<sim::Scheduler::EventId> watchdog;  // the Bus Watchdog's expiry, while armed
 };
 
@@ -101,12 +102,56 @@ model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
 }
 
 bool Bus::booting(const model::Servo& servo) const {
+  const Station* s = station_of(servo);
+  return s != nullptr && scheduler_.now() < s->booting_until;
+}
+
+Bus::Station* Bus::station_of(const model::Servo& servo) const {
   for (const auto& s : stations_) {
     if (s->servo == &servo) {
-      return scheduler_.now() < s->booting_until;
+      return s.get();
     }
   }
-  return false;
+  return nullptr;
+}
+
+bool Bus::attached(const model::Servo& servo) const {
+  const Station* s = station_of(servo);
+  return s != nullptr && s->attached;
+}
+
+void Bus::detach(model::Servo& servo) {
+  Station* s = station_of(servo);
+  if (s == nullptr || !s->attached) {
+    return;
+  }
+  // Unplugged: no power and no line. The motor gives no torque; the servo hears nothing.
+  servo.advance_to(scheduler_.now());
+  s->attached = false;
+  if (s->watchdog) {
+    scheduler_.cancel(*s->watchdog);
+    s->watchdog.reset();
+  }
+  if (const auto torque = servo.spec().index_of("torque_enable")) {
+    servo.table().set(*torque, 0);
+  }
+  servo.motion().wake();
+}
+
+void Bus::power_on(model::Servo& servo) {
+  Station* s = station_of(servo);
+  if (s == nullptr) {
+    return;
+  }
+  // Powering on is a reboot: RAM back to its initial values, silent while it boots.
+  servo.advance_to(scheduler_.now());
+  s->attached = true;
+  if (s->watchdog) {
+    scheduler_.cancel(*s->watchdog);
+    s->watchdog.reset();
+  }
+  servo.reboot();
+  s->booting_until = scheduler_.now() + std::chrono::milliseconds(servo.spec().timing.boot_ms);
 }
 
 void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t client_bps) {
@@ -225,8 +270,8 @@ std::vector<Bus::Station*> Bus::listeners(wire::Protocol protocol, std::uint32_t
                                           SimTime now) {
   std::vector<Station*> out;
   for (const auto& s : stations_) {
-    if (s->servo->protocol() == protocol && baud_matches(client_bps, s->servo->baud_bps()) &&
-        now >= s->booting_until) {
+    if (s->attached && s->servo->protocol() == protocol &&
+        baud_matches(client_bps, s->servo->baud_bps()) && now >= s->booting_until) {
       out.push_back(s.get());
     }
   }

@@ -58,8 +58,18 @@ class Bus {
   /// The servos, in the order they were added.
   const std::vector<std::unique_ptr<model::Servo>>& servos() const { return servos_; }
 
-  /// True while `servo` is booting after Reboot, Factory Reset or Backup restore (silent).
+  /// True while `servo` is booting after Reboot, Factory Reset, Backup restore or power-on
+  /// (silent).
   bool booting(const model::Servo& servo) const;
+
+  /// Unplugs `servo` (its cable carries power and data): it hears and answers nothing and its
+  /// motor gives no torque until power_on(). Nothing happens if it is already unplugged.
+  void detach(model::Servo& servo);
+  /// Plugs `servo` in, or power-cycles it if it is plugged in: it powers on as after a reboot
+  /// (RAM to initial values or the backup, Startup Configuration) and is silent while it boots.
+  void power_on(model::Servo& servo);
+  /// False while `servo` is unplugged.
+  bool attached(const model::Servo& servo) const;
 
   /// Chooses how replies are timed; Modelled unless set.
   void set_reply_timing(ReplyTiming timing) { timing_ = timing; }
@@ -75,6 +85,7 @@ class Bus {
 
  private:
   struct Station;  // a servo and its bus-side state
+  Station* station_of(const model::Servo& servo) const;
   struct Outgoing;
   struct Reply {
     Station* station;

@@ -320,6 +320,7 @@ ordered_json list(Target& target, const Args& /*args*/) {
     ordered_json servos = ordered_json::array();
     for (const auto& servo : bus->servos()) {
       servos.push_back(servo_summary(*servo));
+      servos.back()["attached"] = bus->attached(*servo);
     }
     port["servos"] = std::move(servos);
     ports.push_back(std::move(port));
@@ -531,6 +532,48 @@ ordered_json stats(Target& target, const Args& args) {
   return out;
 }
 
+/// The port and servo a request addresses, for commands that act on the bus side of a servo.
+struct Plugged {
+  Port port;
+  model::Servo& servo;
+};
+
+Plugged plugged(Target& target, const Args& args) {
+  Port port = port_of(target, args);
+  const std::int64_t id = args.required_integer("servo");
+  port.bus.catch_up();
+  return {port, servo_on(port, id)};
+}
+
+ordered_json attached_json(const Plugged& p) {
+  return {{"attached", p.port.bus.attached(p.servo)}, {"booting", p.port.bus.booting(p.servo)}};
+}
+
+ordered_json servo_detach(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  if (!p.port.bus.attached(p.servo)) {
+    refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name + " is already detached");
+  }
+  p.port.bus.detach(p.servo);
+  return attached_json(p);
+}
+
+ordered_json servo_attach(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  if (p.port.bus.attached(p.servo)) {
+    refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name +
+           " is attached (servo.power_cycle restarts it)");
+  }
+  p.port.bus.power_on(p.servo);
+  return attached_json(p);
+}
+
+ordered_json servo_power_cycle(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  p.port.bus.power_on(p.servo);
+  return attached_json(p);
+}
+
 ordered_json shutdown(Target& target, const Args& /*args*/) {
   target.request_shutdown();
   return ordered_json::object();
@@ -557,6 +600,9 @@ const std::vector<Command>& commands() {
       {"condition.set",
        {"port", "servo", "ambient_temperature", "supply_voltage", "external_load", "blocked"},
        condition_set},
+      {"servo.detach", {"port", "servo"}, servo_detach},
+      {"servo.attach", {"port", "servo"}, servo_attach},
+      {"servo.power_cycle", {"port", "servo"}, servo_power_cycle},
       {"clock.now", {}, clock_now},
       {"clock.step", {"ms", "us", "ns"}, clock_step},
       {"stats", {"port"}, stats},

@@ -3,6 +3,7 @@ Unix socket and its PTY at once."""
 import os
 import stat
 import tempfile
+import time
 import unittest
 
 from dxl_client import Control, Daemon, Port, packet2
@@ -75,6 +76,18 @@ class ControlTest(unittest.TestCase):
         self.assertFalse(control.reply()["ok"])
         self.assertEqual(control.call("clock.now").keys() >= {"ns"}, True)
         self.assertEqual(other.call("get", servo=1, item="id")["value"], 1)
+
+    def test_a_detached_servo_drops_off_the_bus_and_answers_again_once_attached_and_booted(self):
+        _, control = self.start()
+        port = Port(self.link)
+        self.assertEqual(control.call("servo.detach", servo=2), {"attached": False, "booting": False})
+        port.write(packet2(2, PING))
+        self.assertIsNone(port.status2(timeout=0.3))
+        self.assertEqual(control.call("servo.attach", servo=2), {"attached": True, "booting": True})
+        time.sleep(0.6)  # 400 ms of boot silence
+        port.write(packet2(2, PING))
+        self.assertEqual(port.status2()[0:2], (2, 0))
+        port.close()
 
     def test_shutdown_stops_the_daemon_and_removes_the_socket_and_the_link(self):
         daemon, control = self.start()

@@ -104,12 +104,12 @@ TEST_CASE("list shows every port with its facts and the key state of each servo"
       R"({"id":1,"ok":true,"result":{"ports":[)"
       R"({"name":"dxl0","pty":"/dev/pts/dxl0","servos":[)"
       R"({"id":1,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
-      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false},)"
+      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false,"attached":true},)"
       R"({"id":2,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
-      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false}]},)"
+      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false,"attached":true}]},)"
       R"({"name":"dxl1","pty":"/dev/pts/dxl1","servos":[)"
       R"({"id":3,"model":"ax-12a","protocol":1,"baud":1000000,"torque":false,)"
-      R"("present_position":512,"present_temperature":25,"moving":false}]}]}})");
+      R"("present_position":512,"present_temperature":25,"moving":false,"attached":true}]}]}})");
 }
 
 TEST_CASE("get reads an item by key, or an address range as little-endian bytes", "[control]") {
@@ -295,7 +295,8 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.api.handle(R"({"id":10,"cmd":"shutdown"})") == R"({"id":10,"ok":true,"result":{}})");
   CHECK(rig.target.shutdown_requested);
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
-        R"({"id":11,"ok":true,"result":["list","get","set","condition.set","clock.now",)"
+        R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
+        R"("servo.attach","servo.power_cycle","clock.now",)"
         R"("clock.step","stats","shutdown","help"]})");
 }
 
@@ -354,7 +355,8 @@ TEST_CASE("A deeply nested request is refused without exhausting the stack", "[c
 TEST_CASE("A request without a known cmd is refused naming the commands", "[control]") {
   Rig rig;
   const std::string commands =
-      "(commands: list, get, set, condition.set, clock.now, clock.step, stats, shutdown, help)";
+      "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
+      "clock.now, clock.step, stats, shutdown, help)";
   CHECK(rig.error(R"({"id":1})") == "\"cmd\" is required " + commands);
   CHECK(rig.error(R"({"id":1,"cmd":3})") == R"("cmd" must be a string)");
   CHECK(rig.error(R"({"id":1,"cmd":"gett"})") == "unknown command \"gett\" " + commands);
@@ -482,4 +484,43 @@ TEST_CASE("Servos sharing an ID cannot be addressed one by one", "[control]") {
         "2 servos on dxl1 have ID 3: the control API cannot tell them apart");
   // The whole port still can be.
   CHECK(rig.result(R"({"cmd":"condition.set","port":"dxl1","blocked":true})").size() == 2);
+}
+
+TEST_CASE("A detached servo is silent until attached, and then boots from its RAM defaults",
+          "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"torque_enable","value":1})");
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":1,"item":"led","value":1})");
+  CHECK(rig.result(R"({"cmd":"servo.detach","port":"dxl0","servo":1})") ==
+        json::parse(R"({"attached":false,"booting":false})"));
+  CHECK(rig.xm1.table().get("torque_enable") == 0);  // no power, no torque
+  rig.dxl0.bus.receive(wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}}),
+                       rig.target.scheduler.now(), 57600);
+  rig.target.scheduler.advance_by(std::chrono::seconds(1));
+  CHECK(rig.dxl0.link.deliveries().empty());
+  CHECK(rig.error(R"({"cmd":"servo.detach","port":"dxl0","servo":1})") ==
+        "servo 1 on dxl0 is already detached");
+  CHECK(rig.result(R"({"cmd":"list"})")["ports"][0]["servos"][0]["attached"] == false);
+  CHECK(rig.result(R"({"cmd":"servo.attach","port":"dxl0","servo":1})") ==
+        json::parse(R"({"attached":true,"booting":true})"));
+  CHECK(rig.xm1.table().get("led") == 0);  // RAM back to its initial values
+  rig.target.scheduler.advance_by(std::chrono::seconds(1));
+  rig.dxl0.bus.receive(wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}}),
+                       rig.target.scheduler.now(), 57600);
+  rig.target.scheduler.advance_by(std::chrono::seconds(1));
+  CHECK(rig.dxl0.link.deliveries().size() == 1);
+  CHECK(rig.error(R"({"cmd":"servo.attach","port":"dxl0","servo":1})") ==
+        "servo 1 on dxl0 is attached (servo.power_cycle restarts it)");
+}
+
+TEST_CASE("A power cycle reboots an attached servo and keeps its EEPROM", "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"return_delay_time","value":0})");
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"led","value":1})");
+  CHECK(rig.result(R"({"cmd":"servo.power_cycle","port":"dxl0","servo":2})") ==
+        json::parse(R"({"attached":true,"booting":true})"));
+  CHECK(rig.xm2.table().get("led") == 0);
+  CHECK(rig.xm2.table().get("return_delay_time") == 0);
+  rig.target.scheduler.advance_by(std::chrono::milliseconds(500));
+  CHECK(rig.result(R"({"cmd":"servo.power_cycle","port":"dxl0","servo":2})")["booting"] == true);
 }
