@@ -4,6 +4,7 @@
 #include <type_traits>
 
 #include "bus/line_timing.hpp"
+#include "faults/packet_facts.hpp"
 #include "wire/instruction_decoder.hpp"
 #include "wire/packet_encoder.hpp"
 
@@ -17,6 +18,13 @@ struct Bus::Station {
   SimTime booting_until{};  // silent before this (Reboot, Factory Reset, Backup restore)
   bool attached = true;     // plugged in: powered and on the line
   std::optional<sim::Scheduler::EventId> watchdog;  // the Bus Watchdog's expiry, while armed
+  // Fault injection (docs/faults.md).
+  bool silent_until_reboot = false;  // hears nothing but a Reboot until it reboots
+  SimTime deaf_until{};              // busy writing EEPROM (eeprom_busy)
+  // The current packet's servo faults, set by Bus::hear.
+  bool deaf = false;    // does not hear it
+  bool mute = false;    // executes it but does not answer
+  SimDuration slow{0};  // extra processing time
 };
 
 // A reply scheduled for delivery. A collision marks it cancelled: the event still runs (the servo
@@ -89,9 +97,9 @@ SimTime Bus::line_end(const wire::Frame& frame, std::uint32_t bps) const {
 
 SimDuration Bus::turnaround(const Reply& reply) const {
   if (timing_ == ReplyTiming::Immediate) {
-    return SimDuration{0};
+    return reply.station->slow;  // an injected delay shows in every timing mode
   }
-  return reply.response.processing + reply.station->servo->return_delay();
+  return reply.response.processing + reply.station->servo->return_delay() + reply.station->slow;
 }
 
 model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
@@ -151,7 +159,46 @@ void Bus::power_on(model::Servo& servo) {
     s->watchdog.reset();
   }
   servo.reboot();
+  s->silent_until_reboot = false;
+  s->deaf_until = {};
   s->booting_until = scheduler_.now() + std::chrono::milliseconds(servo.spec().timing.boot_ms);
+}
+
+void Bus::set_faults(faults::Injector* injector, std::string port) {
+  injector_ = injector;
+  port_ = std::move(port);
+  forget_servo_faults();
+  refresh_faults();
+}
+
+void Bus::refresh_faults() {
+  if (fault_window_) {
+    scheduler_.cancel(*fault_window_);
+    fault_window_.reset();
+  }
+  const SimTime now = scheduler_.now();
+  catch_up(now);
+  apply_hardware_faults(now);
+  if (injector_ == nullptr) {
+    return;
+  }
+  if (const auto next = injector_->next_state_change(now)) {
+    fault_window_ = scheduler_.schedule_at(*next, [this] {
+      fault_window_.reset();
+      refresh_faults();
+    });
+  }
+}
+
+void Bus::apply_hardware_faults(SimTime now) {
+  for (const auto& s : stations_) {
+    const model::FaultSet faults =
+        injector_ != nullptr ? injector_->hardware_faults(port_, s->servo->id(), now) : 0;
+    if (faults != s->servo->motion().injected()) {
+      s->servo->advance_to(now);
+      s->servo->motion().set_injected(faults);
+    }
+  }
 }
 
 void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t client_bps) {
@@ -208,6 +255,10 @@ void Bus::schedule_expiry(std::uint32_t client_bps) {
 void Bus::catch_up(SimTime now) {
   for (const auto& servo : servos_) {
     servo->advance_to(now);
+  }
+  // hardware_error rules follow a servo's ID, which an instruction may have changed.
+  if (injector_ != nullptr && !injector_->rules().empty()) {
+    apply_hardware_faults(now);
   }
 }
 
@@ -271,7 +322,8 @@ std::vector<Bus::Station*> Bus::listeners(wire::Protocol protocol, std::uint32_t
   std::vector<Station*> out;
   for (const auto& s : stations_) {
     if (s->attached && s->servo->protocol() == protocol &&
-        baud_matches(client_bps, s->servo->baud_bps()) && now >= s->booting_until) {
+        baud_matches(client_bps, s->servo->baud_bps()) && now >= s->booting_until &&
+        now >= s->deaf_until && !s->deaf) {
       out.push_back(s.get());
     }
   }
@@ -292,6 +344,40 @@ std::vector<Bus::Station*> Bus::addressed(const std::vector<Station*>& listening
 void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
   const SimTime end = line_end(frame, client_bps);
   auto decoded = wire::decode_instruction(frame);
+  const auto* decoded_packet = std::get_if<wire::InstructionPacket>(&decoded);
+  current_ = {frame.instruction, decoded_packet};
+  if (injector_ != nullptr) {
+    forget_servo_faults();
+    // The servos a packet is for: its ID, the IDs a Sync/Bulk instruction lists, or every servo
+    // listening to a broadcast.
+    std::vector<std::uint8_t> ids;
+    if (decoded_packet != nullptr && is_group_instruction(frame.instruction)) {
+      ids = faults::listed_ids(*decoded_packet);
+    } else if (frame.id == wire::kBroadcastId) {
+      for (const Station* s : listeners(frame.protocol, client_bps, end)) {
+        ids.push_back(s->servo->id());
+      }
+    } else {
+      ids.push_back(frame.id);
+    }
+    const faults::InstructionEffects effects = injector_->instruction(facts(std::move(ids), end));
+    stats_.faults_injected += effects.any() ? 1 : 0;
+    if (effects.echo) {
+      send_at(frame.raw, end, frame.protocol, {}, false);
+    }
+    if (!effects.noise.empty()) {
+      send_at(effects.noise, end, frame.protocol, {}, false);
+    }
+    if (effects.corrupt) {
+      // The servos hear the packet with a broken check and answer as they would.
+      current_.packet = nullptr;
+      on_bad_check({wire::FramingErrorKind::BadCheck, frame.protocol, frame.raw.size(), frame.id,
+                    frame.instruction, frame.first_byte_at},
+                   end, client_bps);
+      return;
+    }
+    hear(frame.protocol, frame.id, client_bps, end);
+  }
   if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
     ++stats_.decode_errors;
     // Group instructions are only heard from 0xFE and never answered there; a malformed one is
@@ -325,11 +411,97 @@ void Bus::on_frame(const wire::Frame& frame, std::uint32_t client_bps) {
   rearm_watchdogs(frame.protocol, client_bps, end);
 }
 
+void Bus::forget_servo_faults() {
+  for (const auto& s : stations_) {
+    s->deaf = false;
+    s->mute = false;
+    s->slow = SimDuration{0};
+  }
+}
+
+faults::PacketFacts Bus::facts(std::vector<std::uint8_t> ids, SimTime at) const {
+  faults::PacketFacts f{port_, current_.instruction, std::move(ids), std::nullopt, at};
+  if (current_.packet != nullptr) {
+    f.span = faults::span_of(*current_.packet,
+                             f.ids.size() == 1 ? std::optional(f.ids.front()) : std::nullopt);
+  }
+  return f;
+}
+
+void Bus::hear(wire::Protocol protocol, std::uint8_t packet_id, std::uint32_t client_bps,
+               SimTime end) {
+  const bool broadcast = packet_id == wire::kBroadcastId;
+  const std::vector<std::uint8_t> listed = current_.packet != nullptr
+                                               ? faults::listed_ids(*current_.packet)
+                                               : std::vector<std::uint8_t>{};
+  for (Station* s : listeners(protocol, client_bps, end)) {
+    const std::uint8_t id = s->servo->id();
+    const bool for_it =
+        broadcast ? listed.empty() || std::find(listed.begin(), listed.end(), id) != listed.end()
+                  : id == packet_id || s->servo->secondary_id() == packet_id;
+    if (!for_it) {
+      continue;
+    }
+    const faults::ServoEffects effects = injector_->servo(facts({id}, end));
+    stats_.faults_injected += effects.any() ? 1 : 0;
+    s->silent_until_reboot = s->silent_until_reboot || effects.silence_until_reboot;
+    s->slow = effects.slow;
+    if (s->silent_until_reboot) {
+      // Its firmware still reacts to a Reboot sent to its own ID, without answering.
+      const bool reboot = current_.instruction == wire::to_byte(wire::InstructionCode::Reboot) &&
+                          id == packet_id && current_.packet != nullptr;
+      (reboot ? s->mute : s->deaf) = true;
+    }
+    s->deaf = s->deaf || effects.silence;
+  }
+}
+
+void Bus::after_write(Station& station, std::uint16_t address, std::span<const std::uint8_t> data,
+                      SimTime end) {
+  if (injector_ == nullptr) {
+    return;
+  }
+  // EEPROM bytes that now hold what was written (a refused write leaves them as they were).
+  const model::ControlTable& table = station.servo->table();
+  std::size_t written = 0;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const std::size_t a = address + i;
+    written += a < table.bytes().size() && table.touches_eeprom(static_cast<std::uint16_t>(a), 1) &&
+                       table.bytes()[a] == data[i]
+                   ? 1
+                   : 0;
+  }
+  if (written == 0) {
+    return;
+  }
+  const SimDuration busy = injector_->eeprom_write(facts({station.servo->id()}, end), written);
+  if (busy.count() > 0) {
+    ++stats_.faults_injected;
+    station.deaf_until = std::max(station.deaf_until, end + busy);
+  }
+}
+
+faults::ReplyEffects Bus::mangle(std::vector<std::uint8_t> ids, std::vector<std::uint8_t>& bytes,
+                                 wire::Protocol protocol) {
+  if (injector_ == nullptr) {
+    return {};
+  }
+  const faults::ReplyEffects effects =
+      injector_->reply(facts(std::move(ids), scheduler_.now()), bytes, protocol);
+  stats_.faults_injected += effects.any ? 1 : 0;
+  return effects;
+}
+
 void Bus::on_bad_check(const wire::FramingError& error, SimTime end, std::uint32_t client_bps) {
   // A servo answers a damaged packet sent to its ID with CRC Error (2.0) or the Checksum Error
   // bit (1.0); the ID is unverified, so whoever has that ID answers. Broadcast: silence.
   if (!error.id || *error.id == wire::kBroadcastId) {
     return;
+  }
+  current_ = {error.instruction.value_or(0), nullptr};
+  if (injector_ != nullptr) {
+    forget_servo_faults();
+    hear(error.protocol, *error.id, client_bps, end);
   }
   std::vector<Reply> replies;
   for (Station* s : addressed(listeners(error.protocol, client_bps, end), *error.id)) {
@@ -359,9 +531,13 @@ void Bus::single(const wire::InstructionPacket& packet, SimTime end, std::uint32
     return a.first->servo->id() < b.first->servo->id();
   });
   std::vector<Reply> replies;
+  const auto* write = std::get_if<wire::Write>(&packet.instruction);
   for (const auto& [s, addressing] : targets) {
     model::ServoResponse r = s->servo->execute(packet, addressing);
-    if (r.reply) {
+    if (write != nullptr) {
+      after_write(*s, write->address, write->data, end);
+    }
+    if (r.reply && !s->mute) {
       replies.push_back({s, r, status_bytes(*s, r)});
     } else {
       settle(*s, r.reboot_after, end);
@@ -473,15 +649,20 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
     packets.push_back(std::move(bytes));
   }
   const Reply& first = answered.front().front();
-  const SimTime start = end + turnaround(first);
   std::vector<Settlement> settlements;
+  std::vector<std::uint8_t> ids;
   for (const Slot& slot : answered) {
     for (const Reply& r : slot) {
       settlements.push_back({r.station, false});
+      ids.push_back(r.station->servo->id());
     }
   }
   std::vector<std::uint8_t> bytes = collide(packets);
-  const SimTime delivered = start + line_time(bytes.size(), first.station->servo->baud_bps());
+  const std::size_t sent_size = bytes.size();
+  const faults::ReplyEffects effects = mangle(std::move(ids), bytes, wire::Protocol::V2);
+  const SimTime start = end + turnaround(first) + effects.delay;
+  const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(),
+                                              first.station->servo->baud_bps());
   send_at(std::move(bytes), delivered, wire::Protocol::V2, std::move(settlements));
 }
 
@@ -495,6 +676,7 @@ void Bus::group_write(const wire::InstructionPacket& packet, SimTime end,
                       const std::vector<std::uint8_t>& data) {
     for (Station* s : addressed(listening, id)) {
       s->servo->write_part(address, data);
+      after_write(*s, address, data, end);
       settle(*s, false, end);
     }
   };
@@ -540,10 +722,16 @@ void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
     std::vector<std::vector<std::uint8_t>> packets;
     std::vector<Settlement> settlements;
     for (const Reply& r : slot) {
-      const SimTime start = after + turnaround(r);
-      slot_end =
-          std::max(slot_end, start + line_time(r.bytes.size(), r.station->servo->baud_bps()));
-      packets.push_back(r.bytes);
+      std::vector<std::uint8_t> bytes = r.bytes;
+      const faults::ReplyEffects effects =
+          mangle({r.station->servo->id()}, bytes, status_protocol(*r.station));
+      const SimTime start = after + turnaround(r) + effects.delay;
+      // A dropped status still took its time on the line: the chain after it keeps its timing.
+      const std::size_t on_line = effects.dropped ? r.bytes.size() : bytes.size();
+      slot_end = std::max(slot_end, start + line_time(on_line, r.station->servo->baud_bps()));
+      if (!bytes.empty()) {
+        packets.push_back(std::move(bytes));
+      }
       settlements.push_back({r.station, r.response.reboot_after});
     }
     if (slot.size() > 1) {
@@ -556,14 +744,14 @@ void Bus::answer(const std::vector<Slot>& slots, SimTime start_after) {
 }
 
 void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol protocol,
-                  std::vector<Settlement> settlements) {
+                  std::vector<Settlement> settlements, bool is_reply) {
   auto outgoing = std::make_shared<Outgoing>();
   outgoing_.push_back(outgoing);
-  scheduler_.schedule_at(at, [this, outgoing, protocol, bytes = std::move(bytes),
+  scheduler_.schedule_at(at, [this, outgoing, protocol, is_reply, bytes = std::move(bytes),
                               settlements = std::move(settlements)] {
     std::erase(outgoing_, outgoing);
-    if (!outgoing->cancelled) {
-      ++stats_.replies;
+    if (!outgoing->cancelled && !bytes.empty()) {
+      stats_.replies += is_reply ? 1 : 0;
       link_.deliver(bytes, scheduler_.now());
       if (observer_.sent) {
         observer_.sent(bytes, scheduler_.now(), protocol);
@@ -581,6 +769,7 @@ void Bus::settle(Station& station, bool reboot, SimTime at) {
   station.servo->commit_deferred();
   if (reboot) {
     station.servo->reboot();
+    station.silent_until_reboot = false;
     station.booting_until = at + std::chrono::milliseconds(station.servo->spec().timing.boot_ms);
   }
 }

@@ -9,6 +9,7 @@
 
 #include "bus/bus_stats.hpp"
 #include "bus/byte_link.hpp"
+#include "faults/injector.hpp"
 #include "model/servo.hpp"
 #include "sim/scheduler.hpp"
 #include "wire/frame.hpp"
@@ -77,6 +78,13 @@ class Bus {
   /// Reports every packet both ways to `observer` from now on (replaces any earlier one).
   void set_observer(LineObserver observer) { observer_ = std::move(observer); }
 
+  /// Applies the rules of `injector` (owned by the caller; must outlive the bus, or be replaced
+  /// by nullptr first) to this bus, whose port rules name `port` (docs/faults.md).
+  void set_faults(faults::Injector* injector, std::string port);
+  /// Brings every servo's injected hardware errors in line with the rules at the scheduler's time
+  /// and schedules the next change a rule's time window makes. Call after rules change.
+  void refresh_faults();
+
   /// Brings every servo's motion up to the scheduler's time (before reading a servo from
   /// outside the bus, e.g. the control API).
   void catch_up() { catch_up(scheduler_.now()); }
@@ -93,7 +101,31 @@ class Bus {
     std::vector<std::uint8_t> bytes;
   };
 
+  /// What the packet being handled is, for the fault hooks. Meaningful only while a packet is
+  /// handled (the fault hooks run synchronously inside on_frame and on_bad_check).
+  struct Current {
+    std::uint8_t instruction = 0;
+    const wire::InstructionPacket* packet = nullptr;  // nullptr when it could not be decoded
+  };
+
   void handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps);
+  /// Clears the previous packet's servo faults (before the next packet is heard).
+  void forget_servo_faults();
+  /// Fault hooks when a packet with `packet_id` and `protocol` is heard: decides for each
+  /// servo it is for whether it hears it (silence, silence_until_reboot) and how slowly.
+  void hear(wire::Protocol protocol, std::uint8_t packet_id, std::uint32_t client_bps,
+            sim::SimTime end);
+  /// Fault facts about the current packet, for the servos with `ids`.
+  faults::PacketFacts facts(std::vector<std::uint8_t> ids, sim::SimTime at) const;
+  /// eeprom_busy: after `station` wrote `data` at `address`, it may stay deaf for a while.
+  void after_write(Station& station, std::uint16_t address, std::span<const std::uint8_t> data,
+                   sim::SimTime end);
+  /// Applies the reply faults to `bytes` from the servos with `ids`; returns the extra delay and
+  /// whether they were dropped.
+  faults::ReplyEffects mangle(std::vector<std::uint8_t> ids, std::vector<std::uint8_t>& bytes,
+                              wire::Protocol protocol);
+  /// Sets every servo's injected hardware errors from the rules at `now`.
+  void apply_hardware_faults(sim::SimTime now);
   /// Runs every servo's motion up to `now`.
   void catch_up(sim::SimTime now);
   void schedule_expiry(std::uint32_t client_bps);
@@ -120,7 +152,7 @@ class Bus {
     bool reboot;
   };
   void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol,
-               std::vector<Settlement> settlements);
+               std::vector<Settlement> settlements, bool is_reply = true);
   void settle(Station& station, bool reboot, sim::SimTime at);
   std::vector<std::uint8_t> status_bytes(const Station& station,
                                          const model::ServoResponse& response) const;
@@ -144,6 +176,10 @@ class Bus {
   BusStats stats_;
   ReplyTiming timing_ = ReplyTiming::Modelled;
   LineObserver observer_;
+  faults::Injector* injector_ = nullptr;
+  std::string port_;  // this bus's name in fault rules
+  Current current_;
+  std::optional<sim::Scheduler::EventId> fault_window_;  // next change of a hardware_error rule
 };
 
 }  // namespace dxlemu::bus
