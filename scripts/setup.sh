@@ -13,6 +13,8 @@ packages=(
   clang-format        # scripts/test.sh refuses unformatted C++
   python3             # end-to-end tests and examples (standard library only)
   python3-serial      # pyserial, for the end-to-end test that drives dxlemu as DynamixelSDK does
+  python3-pytest      # the pytest fixture of python/dxlemu is tested with Debian's pytest
+  tshark              # CI checks the Wireshark dissector (scripts/dxlemu.lua) on a capture
 )
 
 missing=()

@@ -4,6 +4,7 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "app/log.hpp"
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
+#include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
 #include "io/pty_link.hpp"
 
@@ -31,7 +33,8 @@ struct Emulator::Port {
 Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options)
     : options_(options),
       driver_(io_, scheduler_,
-              options.timing == TimingMode::Manual ? io::Pace::Manual : io::Pace::WallClock) {
+              options.timing == TimingMode::Manual ? io::Pace::Manual : io::Pace::WallClock),
+      injector_(options.seed) {
   // What can be refused is checked before the first PTY opens, except the state's values, which
   // need the servos; a refusal then unwinds every port (links removed) before any readiness line.
   for (const PortConfig& port_config : config.ports) {
@@ -45,6 +48,16 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     if (!trace_) {
       throw ConfigError(options_.trace->string(), "", "cannot be created (--trace)");
     }
+  }
+  if (options_.pcap) {
+    pcap_file_.open(*options_.pcap, std::ios::binary | std::ios::trunc);
+    if (!pcap_file_) {
+      throw ConfigError(options_.pcap->string(), "", "cannot be created (--pcap)");
+    }
+    // The one wall-clock read of the capture: simulated time started with the driver, just now.
+    const auto start = std::chrono::duration_cast<std::chrono::microseconds>(
+        std::chrono::system_clock::now().time_since_epoch());
+    pcap_ = std::make_unique<PcapWriter>(pcap_file_, start);
   }
   for (const PortConfig& port_config : config.ports) {
     auto port = std::make_unique<Port>();
@@ -61,16 +74,28 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         added.table().set(key, value);
       }
     }
-    if (trace_.is_open()) {
-      const std::string name = port_config.name;
-      port->bus->set_observer(
-          {[this, name](const wire::FramerEvent& event) {
-             trace_ << heard_record(name, event).dump() << '\n' << std::flush;
-           },
-           [this, name](std::span<const std::uint8_t> bytes, sim::SimTime at, wire::Protocol p) {
-             trace_ << sent_record(name, bytes, at, p).dump() << '\n' << std::flush;
-           }});
-    }
+    // One observer feeds the trace file, the capture and the control API's trace subscribers,
+    // so all can be on at once; each record is built once, only when someone wants it.
+    const std::string name = port_config.name;
+    const std::size_t index = ports_.size();
+    port->bus->set_observer({[this, name, index](const wire::FramerEvent& event) {
+                               if (trace_.is_open() || !subscribers_.empty()) {
+                                 trace(name, heard_record(name, event));
+                               }
+                               if (pcap_) {
+                                 pcap_->heard(index, event);
+                               }
+                             },
+                             [this, name, index](std::span<const std::uint8_t> bytes,
+                                                 sim::SimTime at, wire::Protocol p) {
+                               if (trace_.is_open() || !subscribers_.empty()) {
+                                 trace(name, sent_record(name, bytes, at, p));
+                               }
+                               if (pcap_) {
+                                 pcap_->sent(index, bytes, at, p);
+                               }
+                             }});
+    port->bus->set_faults(&injector_, port_config.name);
     ports_.push_back(std::move(port));
   }
   restore(state);
@@ -79,9 +104,11 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
   api_ = std::make_unique<control::Api>(*this);
   control_ = std::make_unique<io::ControlServer>(
       io_, options_.control.value_or(default_control_path()),
-      [this](std::string_view line, io::ControlSession&) {
+      [this](std::string_view line, io::ControlSession& session) {
         driver_.catch_up();
-        std::string reply = api_->handle(line);
+        current_session_ = &session;
+        std::string reply = api_->handle(line, session.id());
+        current_session_ = nullptr;
         driver_.rearm();
         save_state_if_changed();  // a set of an EEPROM item is kept like a bus write
         return reply;
@@ -93,9 +120,56 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
             {"error", "request longer than " + std::to_string(limit) + " bytes: discarded"}}
             .dump();
       });
+  control_->on_close([this](io::ControlSession& session) { subscribers_.erase(session.id()); });
+  if (options_.scenario) {
+    // Its steps count from now, the start of simulated time.
+    const std::string origin = options_.scenario->string();
+    try {
+      control::schedule_scenario(*this, control::load_scenario_file(*options_.scenario), origin);
+    } catch (const control::ScenarioError& e) {
+      throw ConfigError(origin, e.pointer(), e.what());
+    }
+  }
 }
 
 Emulator::~Emulator() = default;
+
+void Emulator::trace(const std::string& port, const nlohmann::ordered_json& record) {
+  if (trace_.is_open()) {
+    trace_ << record.dump() << '\n' << std::flush;
+  }
+  if (subscribers_.empty()) {
+    return;
+  }
+  nlohmann::ordered_json event = {{"event", "trace"}};
+  event.update(record);
+  const std::string line = event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  for (auto& [client, subscriber] : subscribers_) {
+    if (subscriber.ports.empty() || std::find(subscriber.ports.begin(), subscriber.ports.end(),
+                                              port) != subscriber.ports.end()) {
+      subscriber.session->send(line);
+    }
+  }
+}
+
+void Emulator::subscribe_trace(std::uint64_t client, std::vector<std::string> ports) {
+  // Only ever called while that client's request is handled.
+  if (current_session_ != nullptr && current_session_->id() == client) {
+    subscribers_[client] = {current_session_, std::move(ports)};
+  }
+}
+
+void Emulator::unsubscribe_trace(std::uint64_t client) {
+  subscribers_.erase(client);
+}
+
+void Emulator::schedule_in(sim::SimDuration delay, std::function<void()> action) {
+  scheduler_.schedule_at(scheduler_.now() + delay, std::move(action));
+}
+
+void Emulator::warn(const std::string& message) {
+  log(LogLevel::Warn, message);
+}
 
 std::filesystem::path default_control_path() {
   const char* runtime = std::getenv("XDG_RUNTIME_DIR");
@@ -209,10 +283,14 @@ void Emulator::run(std::ostream& out) {
       io_.stop();
     }
   });
-  for (const auto& port : ports_) {
+  for (std::size_t index = 0; index < ports_.size(); ++index) {
+    const auto& port = ports_[index];
     bus::Bus& bus = *port->bus;
-    port->pty->start([this, &bus](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
+    port->pty->start([this, &bus, index](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
       driver_.catch_up();
+      if (pcap_) {
+        pcap_->client_bytes(index, bytes);  // where a damaged packet's bytes are found
+      }
       bus.receive(bytes, scheduler_.now(), bps);
       driver_.rearm();
       save_state_if_changed();
@@ -228,6 +306,7 @@ void Emulator::run(std::ostream& out) {
     }
     ready["servos"] = servos;
     ready["control"] = control_->path().string();
+    ready["seed"] = injector_.seed();
     out << ready.dump() << std::endl;  // flushed: scripts wait for this line
     log(LogLevel::Info, port->config.name + ": " + std::to_string(port->config.servos.size()) +
                             " servos on " + port->pty->slave_path());

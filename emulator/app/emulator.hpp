@@ -3,6 +3,7 @@
 #include <boost/asio/io_context.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -11,6 +12,7 @@
 #include "app/bus_config.hpp"
 #include "app/bus_state.hpp"
 #include "app/model_library.hpp"
+#include "app/pcap_writer.hpp"
 #include "control/api.hpp"
 #include "control/target.hpp"
 #include "io/control_server.hpp"
@@ -33,8 +35,14 @@ struct RunOptions {
   std::optional<std::filesystem::path> state;
   /// Write every packet both ways here as JSON lines (docs/trace.md).
   std::optional<std::filesystem::path> trace;
+  /// Write every packet both ways here as a pcap capture for Wireshark (docs/pcap.md).
+  std::optional<std::filesystem::path> pcap;
   /// The control API's socket (docs/control-api.md); default: default_control_path().
   std::optional<std::filesystem::path> control;
+  /// A scenario file whose steps start with simulated time (docs/faults.md "Scenarios").
+  std::optional<std::filesystem::path> scenario;
+  /// Seeds every random choice of fault injection (docs/faults.md).
+  std::uint64_t seed = 1;
   /// The motion model's tick period (docs/motion.md).
   sim::SimDuration tick = std::chrono::milliseconds(1);
 };
@@ -49,8 +57,8 @@ std::filesystem::path default_control_path();
 class Emulator : public control::Target {
  public:
   /// Builds every port of `config` (already validated by parse_config or check_servo), restores
-  /// EEPROM from the state file and opens the trace. Throws ConfigError for a bad state file or
-  /// trace path, std::system_error when a PTY or link cannot be made.
+  /// EEPROM from the state file and opens the trace and the capture. Throws ConfigError for a bad
+  /// state file, trace or capture path, std::system_error when a PTY or link cannot be made.
   Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options);
   ~Emulator() override;
   Emulator(const Emulator&) = delete;
@@ -64,6 +72,11 @@ class Emulator : public control::Target {
   bool manual_clock() const override;
   void step_clock(sim::SimDuration d) override;
   void request_shutdown() override;
+  faults::Injector& faults() override { return injector_; }
+  void subscribe_trace(std::uint64_t client, std::vector<std::string> ports) override;
+  void unsubscribe_trace(std::uint64_t client) override;
+  void schedule_in(sim::SimDuration delay, std::function<void()> action) override;
+  void warn(const std::string& message) override;
 
   /// Writes one readiness line per port (JSON) to `out`, serves until SIGINT or SIGTERM, then
   /// saves the state and returns; the destructor removes the links.
@@ -72,6 +85,8 @@ class Emulator : public control::Target {
  private:
   struct Port;
   void restore(const BusState& state);
+  /// Writes one trace record of `port` to the trace file and to the subscribers of that port.
+  void trace(const std::string& port, const nlohmann::ordered_json& record);
   /// Saves the state file if any servo's EEPROM changed since the last save.
   void save_state_if_changed();
 
@@ -79,9 +94,20 @@ class Emulator : public control::Target {
   boost::asio::io_context io_;
   sim::Scheduler scheduler_;
   io::RealTimeDriver driver_;
+  faults::Injector injector_;  // outlives the buses (declared before ports_)
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
+  std::ofstream pcap_file_;
+  std::unique_ptr<PcapWriter> pcap_;  // writes to pcap_file_; null without --pcap
   std::vector<std::vector<std::uint8_t>> saved_eeprom_;  // per servo, ports in order
+  /// A control connection that asked for trace events (trace.subscribe) and its ports (all when
+  /// empty). The server reports every close, so the session pointer never dangles.
+  struct Subscriber {
+    io::ControlSession* session = nullptr;
+    std::vector<std::string> ports;
+  };
+  std::map<std::uint64_t, Subscriber> subscribers_;  // by connection id
+  io::ControlSession* current_session_ = nullptr;    // whose request is being handled
   std::unique_ptr<control::Api> api_;
   std::unique_ptr<io::ControlServer> control_;
   bool shutting_down_ = false;

@@ -1,22 +1,29 @@
 // dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves buses of virtual servos on
-// pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config.
+// pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config;
+// `dxlemu ctl` sends one request to a running emulator's control API.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <functional>
 #include <iomanip>
 #include <iostream>
 #include <map>
 
 #include "app/bus_config.hpp"
+#include "app/ctl_request.hpp"
 #include "app/emulator.hpp"
 #include "app/log.hpp"
 #include "app/model_library.hpp"
 #include "dxlemu/version.hpp"
+#include "io/control_client.hpp"
 #include "model/model_error.hpp"
 
 namespace {
 
 // Exit status for refused input (bad model file, bad config), as documented in README.md.
 constexpr int kExitBadInput = 2;
+
+// How long `dxlemu ctl` waits for a reply by default: long enough for a clock.step of an hour.
+constexpr double kDefaultCtlTimeoutS = 60;
 
 // The default bus (README): three XM430-W350 at factory settings, IDs 1 to 3, on dxl0.
 constexpr const char* kDefaultServos = "xm430-w350:1-3";
@@ -90,6 +97,40 @@ int run_command(const std::function<void()>& body) {
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "dxlemu: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+// `dxlemu ctl`'s exit statuses (docs/control-api.md "From a shell: dxlemu ctl"): 0 done, 1 the
+// daemon refused the request or failed to answer, 2 bad arguments or no daemon to talk to.
+struct CtlArguments {
+  std::optional<std::filesystem::path> control;
+  std::string command;
+  std::vector<std::string> args;
+  double timeout_s = 0;
+};
+
+int run_ctl(const CtlArguments& ctl) {
+  try {
+    const auto request = dxlemu::app::ctl_request(ctl.command, ctl.args);
+    // Where `dxlemu run` puts its socket by default (the PID part aside).
+    const auto dir = dxlemu::app::default_control_path().parent_path();
+    const auto path = dxlemu::app::ctl_control_socket(ctl.control, std::getenv("DXLEMU_CONTROL"),
+                                                      dir, dxlemu::io::live_control_sockets);
+    dxlemu::io::ControlClient client(path);
+    const auto timeout = std::chrono::milliseconds(static_cast<std::int64_t>(ctl.timeout_s * 1e3));
+    const auto outcome = dxlemu::app::ctl_outcome(client.call(request.dump(), timeout));
+    std::cout << outcome.out;
+    std::cerr << outcome.err;
+    return outcome.exit_code;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "dxlemu ctl: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const dxlemu::io::ControlConnectError& e) {
+    std::cerr << "dxlemu ctl: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "dxlemu ctl: " << e.what() << "\n";
     return 1;
   }
 }
@@ -201,6 +242,14 @@ int main(int argc, char** argv) {
   run->add_option("--trace", options.trace,
                   "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
       ->type_name("FILE");
+  run->add_option("--pcap", options.pcap,
+                  "Write every packet both ways to FILE as a pcap capture for Wireshark with "
+                  "scripts/dxlemu.lua (docs/pcap.md)")
+      ->type_name("FILE");
+  run->add_option("--scenario", options.scenario,
+                  "Run the timeline of faults and conditions in FILE (docs/faults.md)");
+  run->add_option("--seed", options.seed,
+                  "Seeds the random choices of fault injection (docs/faults.md); default 1");
   int tick_hz = kDefaultTickHz;
   run->add_option("--tick-hz", tick_hz,
                   "Motion model ticks per second of simulated time (docs/motion.md)")
@@ -210,6 +259,28 @@ int main(int argc, char** argv) {
   run->add_option("--log-level", log_level, "Messages on stderr: error, warn, info or debug")
       ->check(CLI::IsMember({"error", "warn", "info", "debug"}))
       ->capture_default_str();
+
+  CtlArguments ctl_arguments;
+  auto* ctl = app.add_subcommand(
+      "ctl", "Send one request to a running emulator's control API and print the result as JSON");
+  ctl->add_option("--control", ctl_arguments.control,
+                  "The daemon's control socket; default: $DXLEMU_CONTROL, else the only live "
+                  "dxlemu-*.sock in $XDG_RUNTIME_DIR or /tmp")
+      ->type_name("PATH");
+  ctl_arguments.timeout_s = kDefaultCtlTimeoutS;
+  ctl->add_option("--timeout", ctl_arguments.timeout_s, "Seconds to wait for the reply")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  ctl->add_option("COMMAND", ctl_arguments.command,
+                  "A control API command: list, get, set, clock.step, stats, help... "
+                  "(docs/control-api.md)")
+      ->required();
+  ctl->add_option("ARG", ctl_arguments.args,
+                  "key=value (value read as JSON when it parses, else a string), or a JSON object "
+                  "whose members are added, e.g. servo=1 item=goal_position value=2048");
+  ctl->footer(
+      "Exit status: 0 done (the result is printed), 1 refused (the error is printed), "
+      "2 bad arguments or no daemon to talk to.");
 
   try {
     app.parse(argc, argv);
@@ -243,6 +314,9 @@ int main(int argc, char** argv) {
       dxlemu::app::Emulator emulator(library, config, options);
       emulator.run(std::cout);
     });
+  }
+  if (ctl->parsed()) {
+    return run_ctl(ctl_arguments);
   }
   if (check->parsed()) {
     return run_command([&] {

@@ -9,22 +9,14 @@
 #include <stdexcept>
 #include <utility>
 
+#include "control/fault_commands.hpp"
+#include "control/request.hpp"
+#include "control/scenario.hpp"
+#include "control/trace_commands.hpp"
 #include "model/servo.hpp"
 
 namespace dxlemu::control {
 namespace {
-
-using nlohmann::ordered_json;
-
-/// A request the API refuses; what() is the error text of the reply.
-class Refusal : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-[[noreturn]] void refuse(const std::string& text) {
-  throw Refusal(text);
-}
 
 // Deeper nesting is refused while parsing: destroying a request and dumping an echoed "id" are
 // recursive, and a line of brackets must not exhaust the stack.
@@ -44,168 +36,6 @@ constexpr int kMaxSupplyV = 100;
 constexpr int kMaxLoadNm = 1000;
 constexpr double kNsPerMs = 1e6;
 constexpr double kNsPerUs = 1e3;
-
-/// Text for the reply: never throws on bytes that are not UTF-8.
-std::string dumped(const ordered_json& value) {
-  return value.dump(-1, ' ', false, ordered_json::error_handler_t::replace);
-}
-
-/// `text` as a JSON string, quotes included: `"dxl9"`.
-std::string json_quoted(std::string_view text) {
-  return dumped(ordered_json(std::string(text)));
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& name : names) {
-    out += (out.empty() ? "" : ", ") + name;
-  }
-  return out;
-}
-
-std::string byte_count(std::size_t size) {
-  return std::to_string(size) + (size == 1 ? " byte" : " bytes");
-}
-
-/// The arguments of one request, read with the type each command expects: a missing argument is
-/// nullopt, one of the wrong type is refused naming it.
-class Args {
- public:
-  Args(const ordered_json& request, std::string_view command)
-      : request_(request), command_(command) {}
-
-  std::string_view command() const { return command_; }
-
-  bool has(std::string_view key) const { return find(key) != nullptr; }
-
-  std::optional<std::int64_t> integer(std::string_view key) const {
-    const ordered_json* value = find(key);
-    if (value == nullptr) {
-      return std::nullopt;
-    }
-    if (value->is_number_unsigned() &&
-        value->get<std::uint64_t>() >
-            static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-      refuse(json_quoted(key) + " is too large");
-    }
-    if (!value->is_number_integer()) {
-      refuse(json_quoted(key) + " must be an integer");
-    }
-    return value->get<std::int64_t>();
-  }
-
-  std::int64_t required_integer(std::string_view key) const {
-    const auto value = integer(key);
-    if (!value) {
-      refuse(json_quoted(key) + " is required");
-    }
-    return *value;
-  }
-
-  std::optional<double> number(std::string_view key) const {
-    const ordered_json* value = find(key);
-    if (value == nullptr) {
-      return std::nullopt;
-    }
-    if (!value->is_number()) {
-      refuse(json_quoted(key) + " must be a number");
-    }
-    return value->get<double>();
-  }
-
-  std::optional<bool> boolean(std::string_view key) const {
-    const ordered_json* value = find(key);
-    if (value == nullptr) {
-      return std::nullopt;
-    }
-    if (!value->is_boolean()) {
-      refuse(json_quoted(key) + " must be true or false");
-    }
-    return value->get<bool>();
-  }
-
-  /// The argument as the request wrote it (JSON), for messages.
-  std::string text(std::string_view key) const {
-    const ordered_json* value = find(key);
-    return value == nullptr ? "nothing" : dumped(*value);
-  }
-
-  std::optional<std::string> string(std::string_view key) const {
-    const ordered_json* value = find(key);
-    if (value == nullptr) {
-      return std::nullopt;
-    }
-    if (!value->is_string()) {
-      refuse(json_quoted(key) + " must be a string");
-    }
-    return value->get<std::string>();
-  }
-
- private:
-  const ordered_json* find(std::string_view key) const {
-    const auto it = request_.find(std::string(key));
-    return it == request_.end() ? nullptr : &*it;
-  }
-
-  const ordered_json& request_;
-  std::string_view command_;
-};
-
-// --- addressing --------------------------------------------------------------------------------
-
-struct Port {
-  std::string name;
-  bus::Bus& bus;
-};
-
-/// The port named by "port", or the only port when there is just one.
-Port port_of(Target& target, const Args& args) {
-  const auto names = target.port_names();
-  std::string name;
-  if (auto given = args.string("port")) {
-    name = std::move(*given);
-  } else if (names.size() == 1) {
-    name = names.front();
-  } else if (names.empty()) {
-    refuse("there are no ports");
-  } else {
-    refuse("\"port\" is required: there are " + std::to_string(names.size()) + " ports (" +
-           joined(names) + ")");
-  }
-  bus::Bus* bus = target.bus(name);
-  if (bus == nullptr) {
-    refuse("port " + json_quoted(name) + " does not exist (ports: " + joined(names) + ")");
-  }
-  return {name, *bus};
-}
-
-model::Servo& servo_on(const Port& port, std::int64_t id) {
-  std::vector<model::Servo*> found;
-  std::vector<std::string> ids;
-  for (const auto& servo : port.bus.servos()) {
-    ids.push_back(std::to_string(servo->id()));
-    if (servo->id() == id) {
-      found.push_back(servo.get());
-    }
-  }
-  if (found.empty()) {
-    refuse("no servo " + std::to_string(id) + " on " + port.name +
-           " (servos: " + (ids.empty() ? "none" : joined(ids)) + ")");
-  }
-  if (found.size() > 1) {
-    refuse(std::to_string(found.size()) + " servos on " + port.name + " have ID " +
-           std::to_string(id) + ": the control API cannot tell them apart");
-  }
-  return *found.front();
-}
-
-/// The servo a request addresses ("port" and "servo"), its motion brought up to now.
-model::Servo& addressed(Target& target, const Args& args) {
-  const Port port = port_of(target, args);
-  const std::int64_t id = args.required_integer("servo");
-  port.bus.catch_up();
-  return servo_on(port, id);
-}
 
 std::size_t item_named(const model::ModelSpec& spec, const std::string& key) {
   const auto index = spec.index_of(key);
@@ -510,11 +340,17 @@ ordered_json clock_step(Target& target, const Args& args) {
 }
 
 ordered_json stats_json(const bus::BusStats& s) {
-  return {{"bytes_in", s.bytes_in},           {"frames", s.frames},
-          {"garbage_bytes", s.garbage_bytes}, {"bad_checks", s.bad_checks},
-          {"truncated", s.truncated},         {"impossible_lengths", s.impossible_lengths},
-          {"decode_errors", s.decode_errors}, {"replies", s.replies},
-          {"collisions", s.collisions},       {"id_conflicts", s.id_conflicts}};
+  return {{"bytes_in", s.bytes_in},
+          {"frames", s.frames},
+          {"garbage_bytes", s.garbage_bytes},
+          {"bad_checks", s.bad_checks},
+          {"truncated", s.truncated},
+          {"impossible_lengths", s.impossible_lengths},
+          {"decode_errors", s.decode_errors},
+          {"replies", s.replies},
+          {"collisions", s.collisions},
+          {"id_conflicts", s.id_conflicts},
+          {"faults_injected", s.faults_injected}};
 }
 
 ordered_json stats(Target& target, const Args& args) {
@@ -603,6 +439,13 @@ const std::vector<Command>& commands() {
       {"servo.detach", {"port", "servo"}, servo_detach},
       {"servo.attach", {"port", "servo"}, servo_attach},
       {"servo.power_cycle", {"port", "servo"}, servo_power_cycle},
+      {"fault.add", {"rule"}, fault_add},
+      {"fault.list", {}, fault_list},
+      {"fault.remove", {"rule"}, fault_remove},
+      {"fault.clear", {}, fault_clear},
+      {"scenario.load", {"file", "scenario"}, scenario_load},
+      {"trace.subscribe", {"port"}, trace_subscribe},
+      {"trace.unsubscribe", {}, trace_unsubscribe},
       {"clock.now", {}, clock_now},
       {"clock.step", {"ms", "us", "ns"}, clock_step},
       {"stats", {"port"}, stats},
@@ -682,10 +525,19 @@ std::vector<std::string> Api::command_names() {
   return names;
 }
 
-std::string Api::handle(std::string_view line) {
+std::string Api::handle(std::string_view line, std::uint64_t client) {
+  ordered_json request;
+  try {
+    request = parse(line);
+  } catch (const Refusal& e) {
+    return dumped({{"id", nullptr}, {"ok", false}, {"error", e.what()}});
+  }
+  return dumped(run(request, client));
+}
+
+ordered_json Api::run(const ordered_json& request, std::uint64_t client) {
   ordered_json reply = {{"id", nullptr}};
   try {
-    const ordered_json request = parse(line);
     if (!request.is_object()) {
       refuse("a request must be a JSON object, e.g. {\"id\":1,\"cmd\":\"list\"}");
     }
@@ -694,7 +546,7 @@ std::string Api::handle(std::string_view line) {
     }
     const Command& command = command_for(request);
     check_fields(request, command);
-    ordered_json result = command.run(target_, Args(request, command.name));
+    ordered_json result = command.run(target_, Args(request, command.name, client));
     reply["ok"] = true;
     reply["result"] = std::move(result);
   } catch (const Refusal& e) {
@@ -705,7 +557,29 @@ std::string Api::handle(std::string_view line) {
     reply["ok"] = false;
     reply["error"] = std::string("internal error: ") + e.what();
   }
-  return dumped(reply);
+  return reply;
+}
+
+std::optional<std::string> Api::check(Target& target, const ordered_json& request) {
+  try {
+    if (!request.is_object()) {
+      refuse("a request must be a JSON object");
+    }
+    const Command& command = command_for(request);
+    check_fields(request, command);
+    const Args args(request, command.name);
+    if (args.has("servo")) {
+      servo_on(port_of(target, args), args.required_integer("servo"));
+    } else if (args.has("port")) {
+      port_of(target, args);
+    }
+    if (command.name == "fault.add") {
+      rule_of(target, args.value("rule"));
+    }
+  } catch (const std::exception& e) {
+    return std::string(e.what());
+  }
+  return std::nullopt;
 }
 
 }  // namespace dxlemu::control

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,9 +28,17 @@ class Api {
   /// An API acting on `target`, which must outlive it.
   explicit Api(Target& target);
 
-  /// Handles one request: `line` is JSON without its newline. Returns the reply as one line of
-  /// JSON without the newline. Never throws: a malformed request gets an error reply.
-  std::string handle(std::string_view line);
+  /// Handles one request from connection `client` (0: none): `line` is JSON without its newline.
+  /// Returns the reply as one line of JSON without the newline. Never throws: a malformed
+  /// request gets an error reply.
+  std::string handle(std::string_view line, std::uint64_t client = 0);
+
+  /// Runs a request already parsed (a scenario step); returns the reply object. Never throws.
+  nlohmann::ordered_json run(const nlohmann::ordered_json& request, std::uint64_t client = 0);
+
+  /// What is wrong with `request` (unknown command or argument, a bad fault rule, an unknown
+  /// port or servo), found without running it; nullopt when nothing is.
+  static std::optional<std::string> check(Target& target, const nlohmann::ordered_json& request);
 
   /// The command names, in the order `help` lists them.
   static std::vector<std::string> command_names();

@@ -1,11 +1,14 @@
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "bus/bus.hpp"
+#include "faults/injector.hpp"
 #include "sim/sim_time.hpp"
 
 namespace dxlemu::control {
@@ -29,6 +32,18 @@ class Target {
   virtual bool manual_clock() const = 0;
   /// Moves simulated time forward by `d`, running everything due (manual timing only).
   virtual void step_clock(sim::SimDuration d) = 0;
+  /// The fault rules every bus applies (docs/faults.md). The target owns them; after changing
+  /// them, call Bus::refresh_faults() on every bus.
+  virtual faults::Injector& faults() = 0;
+  /// Sends every packet of `ports` (all ports when empty) to connection `client` as trace events
+  /// from now on, replacing an earlier subscription of that client (trace.subscribe).
+  virtual void subscribe_trace(std::uint64_t client, std::vector<std::string> ports) = 0;
+  /// Ends connection `client`'s trace events; nothing happens if it has none.
+  virtual void unsubscribe_trace(std::uint64_t client) = 0;
+  /// Runs `action` once simulated time has advanced by `delay` (scenario steps).
+  virtual void schedule_in(sim::SimDuration delay, std::function<void()> action) = 0;
+  /// Reports a problem that has no request to answer (a scenario step that failed).
+  virtual void warn(const std::string& message) = 0;
   /// Asks the daemon to stop after this reply.
   virtual void request_shutdown() = 0;
 };

@@ -1,7 +1,9 @@
 """End-to-end tests of the control API (docs/control-api.md): the real dxlemu binary, its
 Unix socket and its PTY at once."""
+import json
 import os
 import stat
+import subprocess
 import tempfile
 import time
 import unittest
@@ -94,6 +96,83 @@ class ControlTest(unittest.TestCase):
         self.assertTrue(control.request("shutdown")["ok"])
         self.assertEqual(daemon.proc.wait(timeout=5), 0)
         self.assertFalse(os.path.exists(self.socket))
+        self.assertFalse(os.path.exists(self.link))
+
+
+    def test_a_fault_rule_drops_replies_until_it_is_removed(self):
+        daemon, control = self.start("--timing", "fast", "--seed", "7")
+        self.assertEqual(daemon.ready["seed"], 7)
+        rule = control.call("fault.add", rule={"action": "drop_reply",
+                                               "match": {"port": "dxl0", "servos": [3]}})
+        self.assertEqual(rule, {"rule": 1})
+        port = Port(self.link)
+        port.write(packet2(3, PING))
+        self.assertIsNone(port.status2(timeout=0.3))
+        port.write(packet2(2, PING))
+        self.assertEqual(port.status2()[:2], (2, 0))
+        listed = control.call("fault.list")
+        self.assertEqual([(r["id"], r["matched"], r["fired"]) for r in listed], [(1, 1, 1)])
+        control.call("fault.remove", rule=1)
+        port.write(packet2(3, PING))
+        self.assertEqual(port.status2()[:2], (3, 0))
+        self.assertEqual(control.call("stats", port="dxl0")["dxl0"]["faults_injected"], 1)
+        port.close()
+
+    def test_trace_events_reach_the_subscribed_connection_only(self):
+        _, control = self.start("--timing", "fast")
+        other = Control(self.socket)
+        self.addCleanup(other.close)
+        self.assertEqual(control.call("trace.subscribe", port="dxl0"), {"ports": ["dxl0"]})
+        port = Port(self.link)
+        port.write(packet2(1, PING))
+        port.status2()
+        events = []
+        deadline = time.monotonic() + 5
+        while len(events) < 2 and time.monotonic() < deadline:
+            events += control.events(timeout=1.0)
+        self.assertEqual([(e["event"], e["dir"], e["port"]) for e in events[:2]],
+                         [("trace", "in", "dxl0"), ("trace", "out", "dxl0")])
+        self.assertEqual(other.events(timeout=0.2), [])
+        control.call("trace.unsubscribe")
+        port.write(packet2(1, PING))
+        port.status2()
+        self.assertEqual(control.events(timeout=0.3), [])
+        port.close()
+
+    def test_a_scenario_file_runs_its_timeline_from_the_start(self):
+        scenario = os.path.join(self.dir.name, "scenario.json")
+        with open(scenario, "w", encoding="utf-8") as f:
+            json.dump({"steps": [{"at_ms": 0, "cmd": "servo.detach", "port": "dxl0", "servo": 2},
+                                 {"at_ms": 300, "cmd": "servo.attach", "port": "dxl0", "servo": 2}]}, f)
+        _, control = self.start("--timing", "fast", "--scenario", scenario)
+        port = Port(self.link)
+        port.write(packet2(2, PING))
+        self.assertIsNone(port.status2(timeout=0.1))
+        deadline = time.monotonic() + 5
+        while not control.call("list")["ports"][0]["servos"][1]["attached"]:
+            self.assertLess(time.monotonic(), deadline)
+            time.sleep(0.05)
+        # It boots (400 ms) and answers again.
+        while True:
+            port.write(packet2(2, PING))
+            status = port.status2(timeout=0.2)
+            if status is not None:
+                break
+            self.assertLess(time.monotonic(), deadline)
+        self.assertEqual(status[:2], (2, 0))
+        port.close()
+
+    def test_a_bad_scenario_file_is_refused_naming_file_pointer_and_reason(self):
+        scenario = os.path.join(self.dir.name, "bad.json")
+        with open(scenario, "w", encoding="utf-8") as f:
+            json.dump({"steps": [{"at_ms": 0, "cmd": "fault.add", "rule": {"action": "boom"}}]}, f)
+        proc = subprocess.run([os.environ["DXLEMU_BIN"], "run", "--link", self.link,
+                               "--control", self.socket, "--scenario", scenario],
+                              capture_output=True, text=True, timeout=30)
+        self.assertEqual(proc.returncode, 2)
+        self.assertIn(scenario, proc.stderr)
+        self.assertIn("/steps/0", proc.stderr)
+        self.assertIn("rule/action: must be one of drop_reply", proc.stderr)
         self.assertFalse(os.path.exists(self.link))
 
 

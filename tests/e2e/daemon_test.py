@@ -218,7 +218,7 @@ class DaemonTest(unittest.TestCase):
         second = json.loads(daemon.proc.stdout.readline())
         self.assertEqual(second, {"event": "ready", "port": "legs", "pty": second["pty"],
                                   "link": legs, "servos": [{"id": 7, "model": "ax-12a"}],
-                                  "control": daemon.ready["control"]})
+                                  "control": daemon.ready["control"], "seed": 1})
         port = Port(arm)
         port.write(packet2(2, READ, bytes([9, 0, 1, 0])))  # Return Delay Time
         self.assertEqual(port.status2(), (2, 0, b"\x00"))

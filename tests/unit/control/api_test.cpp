@@ -3,6 +3,8 @@
 // clock.
 #include <catch2/catch.hpp>
 #include <deque>
+#include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -32,11 +34,16 @@ class FakeTarget : public control::Target {
   };
 
   sim::Scheduler scheduler;
+  faults::Injector injector{1};
   std::deque<Port> ports;
   bool manual = true;
   bool shutdown_requested = false;
 
-  Port& add_port(const std::string& name) { return ports.emplace_back(name, scheduler); }
+  Port& add_port(const std::string& name) {
+    Port& port = ports.emplace_back(name, scheduler);
+    port.bus.set_faults(&injector, name);
+    return port;
+  }
   model::Servo& add(Port& port, const std::string& model, std::uint8_t id) {
     return port.bus.add_servo(std::make_unique<model::Servo>(test::shipped_model(model), id));
   }
@@ -63,6 +70,18 @@ class FakeTarget : public control::Target {
   bool manual_clock() const override { return manual; }
   void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
   void request_shutdown() override { shutdown_requested = true; }
+  faults::Injector& faults() override { return injector; }
+  void subscribe_trace(std::uint64_t client, std::vector<std::string> names) override {
+    subscriptions[client] = std::move(names);
+  }
+  void unsubscribe_trace(std::uint64_t client) override { subscriptions.erase(client); }
+  void schedule_in(sim::SimDuration delay, std::function<void()> action) override {
+    scheduler.schedule_at(scheduler.now() + delay, std::move(action));
+  }
+  void warn(const std::string& message) override { warnings.push_back(message); }
+
+  std::map<std::uint64_t, std::vector<std::string>> subscriptions;
+  std::vector<std::string> warnings;
 };
 
 /// dxl0: two XM430-W350 (IDs 1 and 2); dxl1: one AX-12A (ID 3).
@@ -280,10 +299,12 @@ TEST_CASE("stats reports every counter of every port, or of the one asked for", 
   rig.target.scheduler.advance_by(10ms);
   const std::string dxl0 =
       R"("dxl0":{"bytes_in":10,"frames":1,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
-      R"("impossible_lengths":0,"decode_errors":0,"replies":1,"collisions":0,"id_conflicts":0})";
+      R"("impossible_lengths":0,"decode_errors":0,"replies":1,"collisions":0,"id_conflicts":0,)"
+      R"("faults_injected":0})";
   const std::string dxl1 =
       R"("dxl1":{"bytes_in":0,"frames":0,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
-      R"("impossible_lengths":0,"decode_errors":0,"replies":0,"collisions":0,"id_conflicts":0})";
+      R"("impossible_lengths":0,"decode_errors":0,"replies":0,"collisions":0,"id_conflicts":0,)"
+      R"("faults_injected":0})";
   CHECK(rig.api.handle(R"({"id":8,"cmd":"stats"})") ==
         R"({"id":8,"ok":true,"result":{)" + dxl0 + "," + dxl1 + "}}");
   CHECK(rig.api.handle(R"({"id":9,"cmd":"stats","port":"dxl1"})") ==
@@ -296,7 +317,8 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.target.shutdown_requested);
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
         R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
-        R"("servo.attach","servo.power_cycle","clock.now",)"
+        R"("servo.attach","servo.power_cycle","fault.add","fault.list","fault.remove",)"
+        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","clock.now",)"
         R"("clock.step","stats","shutdown","help"]})");
 }
 
@@ -356,7 +378,8 @@ TEST_CASE("A request without a known cmd is refused naming the commands", "[cont
   Rig rig;
   const std::string commands =
       "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
-      "clock.now, clock.step, stats, shutdown, help)";
+      "fault.add, fault.list, fault.remove, fault.clear, scenario.load, trace.subscribe, "
+      "trace.unsubscribe, clock.now, clock.step, stats, shutdown, help)";
   CHECK(rig.error(R"({"id":1})") == "\"cmd\" is required " + commands);
   CHECK(rig.error(R"({"id":1,"cmd":3})") == R"("cmd" must be a string)");
   CHECK(rig.error(R"({"id":1,"cmd":"gett"})") == "unknown command \"gett\" " + commands);
@@ -523,4 +546,157 @@ TEST_CASE("A power cycle reboots an attached servo and keeps its EEPROM", "[cont
   CHECK(rig.xm2.table().get("return_delay_time") == 0);
   rig.target.scheduler.advance_by(std::chrono::milliseconds(500));
   CHECK(rig.result(R"({"cmd":"servo.power_cycle","port":"dxl0","servo":2})")["booting"] == true);
+}
+
+// --- faults ------------------------------------------------------------------------------------
+
+TEST_CASE("fault.add returns a rule id, fault.list shows the rule and its counters", "[control]") {
+  Rig rig;
+  CHECK(
+      rig.result(
+          R"({"cmd":"fault.add","rule":{"action":"drop_reply","match":{"port":"dxl0","servos":[2],"instruction":"ping"},"count":1}})") ==
+      json::parse(R"({"rule":1})"));
+  CHECK(rig.result(R"({"cmd":"fault.add","rule":{"action":"slow","us":100}})") ==
+        json::parse(R"({"rule":2})"));
+  // A ping of servo 2 is dropped once.
+  rig.dxl0.bus.receive(wire::encode_instruction({wire::Protocol::V2, 2, wire::Ping{}}),
+                       rig.target.now(), 57600);
+  rig.target.step_clock(10ms);
+  CHECK(rig.dxl0.link.deliveries().empty());
+  CHECK(rig.result(R"({"cmd":"fault.list"})") == json::parse(R"([
+    {"id":1,"rule":{"action":"drop_reply","match":{"port":"dxl0","servos":[2],"instruction":["ping"]},
+                    "probability":1.0,"count":1,"after":0,"from_ms":0.0},
+     "matched":1,"fired":1,"active":false},
+    {"id":2,"rule":{"action":"slow","match":{},"probability":1.0,"after":0,"from_ms":0.0,"us":100},
+     "matched":1,"fired":1,"active":true}])"));
+  CHECK(rig.result(R"({"cmd":"stats","port":"dxl0"})")["dxl0"]["faults_injected"] == 2);
+}
+
+TEST_CASE("An injected hardware error shows on the bus and is gone after fault.remove and Reboot",
+          "[control]") {
+  Rig rig;
+  const json added = rig.result(
+      R"({"cmd":"fault.add","rule":{"action":"hardware_error","kind":"overload","match":{"port":"dxl0","servos":[1]}}})");
+  rig.target.step_clock(2ms);
+  CHECK(rig.result(
+            R"({"cmd":"get","port":"dxl0","servo":1,"item":"hardware_error_status"})")["value"] ==
+        32);
+  CHECK(rig.result(R"({"cmd":"fault.remove","rule":)" + added["rule"].dump() + "}") == added);
+  rig.dxl0.bus.power_on(rig.xm1);  // a reboot: the error does not come back
+  rig.target.step_clock(1s);
+  CHECK(rig.result(
+            R"({"cmd":"get","port":"dxl0","servo":1,"item":"hardware_error_status"})")["value"] ==
+        0);
+}
+
+TEST_CASE("fault.clear removes every rule and says how many", "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"fault.add","rule":{"action":"drop_reply"}})");
+  rig.result(R"({"cmd":"fault.add","rule":{"action":"noise"}})");
+  CHECK(rig.result(R"({"cmd":"fault.clear"})") == json::parse(R"({"removed":2})"));
+  CHECK(rig.result(R"({"cmd":"fault.list"})") == json::array());
+}
+
+TEST_CASE("A bad fault rule is refused naming the member, and nothing is added", "[control]") {
+  Rig rig;
+  CHECK(rig.error(R"({"cmd":"fault.add"})").rfind("\"rule\" is required", 0) == 0);
+  CHECK(
+      rig.error(R"({"cmd":"fault.add","rule":{"action":"drop_reply","match":{"servos":[300]}}})") ==
+      "rule/match/servos/0: must be an integer from 0 to 252, not 300");
+  CHECK(
+      rig.error(R"({"cmd":"fault.add","rule":{"action":"drop_reply","match":{"port":"dxl9"}}})") ==
+      "rule/match/port: port \"dxl9\" does not exist (ports: dxl0, dxl1)");
+  CHECK(rig.error(R"({"cmd":"fault.add","rule":"drop"})") ==
+        "rule: a rule must be a JSON object with at least \"action\"");
+  CHECK(rig.error(R"({"cmd":"fault.remove","rule":7})") == "no fault rule 7 (there are none)");
+  rig.result(R"({"cmd":"fault.add","rule":{"action":"drop_reply"}})");
+  CHECK(rig.error(R"({"cmd":"fault.remove","rule":7})") == "no fault rule 7 (rules: 1)");
+  CHECK(rig.error(R"({"cmd":"fault.remove","rule":"1"})") == "\"rule\" must be an integer");
+  CHECK(rig.result(R"({"cmd":"fault.list"})").size() == 1);
+}
+
+// --- trace events and scenarios ------------------------------------------------------------------
+
+TEST_CASE("trace.subscribe registers the connection for one port or all, trace.unsubscribe ends it",
+          "[control]") {
+  Rig rig;
+  CHECK(rig.api.handle(R"({"id":1,"cmd":"trace.subscribe","port":"dxl1"})", 5) ==
+        R"({"id":1,"ok":true,"result":{"ports":["dxl1"]}})");
+  CHECK(rig.target.subscriptions.at(5) == std::vector<std::string>{"dxl1"});
+  CHECK(rig.api.handle(R"({"id":2,"cmd":"trace.subscribe"})", 6) ==
+        R"({"id":2,"ok":true,"result":{"ports":["dxl0","dxl1"]}})");
+  CHECK(rig.target.subscriptions.at(6).empty());
+  CHECK(rig.api.handle(R"({"id":3,"cmd":"trace.unsubscribe"})", 5) ==
+        R"({"id":3,"ok":true,"result":{}})");
+  CHECK(rig.target.subscriptions.count(5) == 0);
+  // Without a connection there is nowhere to send events.
+  CHECK(rig.error(R"({"cmd":"trace.subscribe"})") ==
+        "trace.subscribe needs a connection to send events to");
+}
+
+TEST_CASE("scenario.load runs each step at its time on the simulated clock", "[control]") {
+  Rig rig;
+  CHECK(rig.result(R"({"cmd":"scenario.load","scenario":{"description":"servo 2 overheats","steps":[
+      {"at_ms":0,"cmd":"condition.set","port":"dxl0","servo":2,"ambient_temperature":40},
+      {"at_ms":100,"cmd":"fault.add","rule":{"action":"hardware_error","kind":"overheating","match":{"port":"dxl0","servos":[2]},"until_ms":50}},
+      {"at_ms":200,"cmd":"servo.detach","port":"dxl0","servo":1}]}})") ==
+        json::parse(R"({"steps":3})"));
+  CHECK(rig.result(R"({"cmd":"fault.list"})").empty());
+  rig.target.step_clock(1ms);
+  CHECK(rig.xm2.motion().conditions().ambient_c == 40);
+  rig.target.step_clock(100ms);
+  CHECK(rig.xm2.motion().injected() == model::fault_set(model::HardwareFault::Overheating));
+  rig.target.step_clock(60ms);  // the rule's window closed
+  CHECK(rig.xm2.motion().injected() == 0);
+  CHECK(rig.dxl0.bus.attached(rig.xm1));
+  rig.target.step_clock(50ms);
+  CHECK_FALSE(rig.dxl0.bus.attached(rig.xm1));
+  CHECK(rig.target.warnings.empty());
+}
+
+TEST_CASE("scenario.load reads a file, and a step that fails when it runs is reported",
+          "[control]") {
+  Rig rig;
+  const std::string path = "scenario_load_test.json";
+  std::ofstream(path) << R"({"steps":[{"at_ms":5,"cmd":"servo.attach","port":"dxl0","servo":1}]})";
+  CHECK(rig.result(R"({"cmd":"scenario.load","file":")" + path + R"("})") ==
+        json::parse(R"({"steps":1})"));
+  rig.target.step_clock(10ms);  // servo 1 is attached already: the step fails
+  REQUIRE(rig.target.warnings.size() == 1);
+  CHECK(rig.target.warnings.front() ==
+        "scenario scenario_load_test.json /steps/0: servo 1 on dxl0 is attached "
+        "(servo.power_cycle restarts it)");
+  std::remove(path.c_str());
+  CHECK(rig.error(R"({"cmd":"scenario.load","file":"no/such/file.json"})") ==
+        "no/such/file.json: cannot be read");
+}
+
+TEST_CASE("A bad scenario is refused naming the step and the reason, and nothing runs",
+          "[control]") {
+  Rig rig;
+  const auto load = [&](const std::string& scenario) {
+    return rig.error(R"({"cmd":"scenario.load","scenario":)" + scenario + "}");
+  };
+  CHECK(load("[]") == "scenario: a scenario must be a JSON object with \"steps\"");
+  CHECK(load(R"({"steps":{}})") == "scenario/steps: must be an array of steps");
+  CHECK(load(R"({"steps":[],"speed":2})") ==
+        "scenario/speed: unknown member (a scenario has steps and description)");
+  CHECK(load(R"({"steps":[{"cmd":"fault.clear"}]})") ==
+        "scenario/steps/0/at_ms: must be the step's time in ms after loading, from 0 to 86400000");
+  CHECK(load(R"({"steps":[{"at_ms":1,"cmd":"stats"}]})")
+            .rfind("scenario/steps/0/cmd: \"stats\" cannot be a step", 0) == 0);
+  CHECK(
+      load(
+          R"({"steps":[{"at_ms":0,"cmd":"fault.clear"},{"at_ms":1,"cmd":"servo.detach","port":"dxl0","servo":9}]})") ==
+      "scenario/steps/1: no servo 9 on dxl0 (servos: 1, 2)");
+  CHECK(load(R"({"steps":[{"at_ms":0,"cmd":"fault.add","rule":{"action":"noise","bytes":0}}]})") ==
+        "scenario/steps/0: rule/bytes: must be an integer from 1 to 1024, not 0");
+  CHECK(load(R"({"steps":[{"at_ms":0,"cmd":"set","port":"dxl0","servo":1,"colour":1}]})")
+            .rfind("scenario/steps/0: unknown field \"colour\" for set", 0) == 0);
+  CHECK(rig.error(R"({"cmd":"scenario.load"})") ==
+        "give either \"file\" (a scenario file's path) or \"scenario\" (the scenario itself)");
+  // The first step was valid, but the scenario was refused whole.
+  rig.target.step_clock(10ms);
+  CHECK(rig.target.warnings.empty());
+  CHECK(rig.dxl0.bus.attached(rig.xm1));
 }

@@ -1,0 +1,132 @@
+#include "control/scenario.hpp"
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "control/api.hpp"
+
+namespace dxlemu::control {
+
+namespace {
+
+constexpr double kNsPerMs = 1e6;
+// A day of simulated time: later steps are surely a unit mistake.
+constexpr double kMaxAtMs = 86'400'000;
+
+}  // namespace
+
+bool allowed_in_scenario(std::string_view command) {
+  static constexpr std::array<std::string_view, 9> kAllowed = {
+      "set",       "condition.set", "servo.detach", "servo.attach", "servo.power_cycle",
+      "fault.add", "fault.remove",  "fault.clear",  "shutdown"};
+  for (const auto allowed : kAllowed) {
+    if (allowed == command) {
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<ScenarioStep> parse_scenario(const nlohmann::ordered_json& scenario) {
+  if (!scenario.is_object()) {
+    throw ScenarioError("", "a scenario must be a JSON object with \"steps\"");
+  }
+  for (const auto& [key, value] : scenario.items()) {
+    if (key != "steps" && key != "description") {
+      throw ScenarioError("/" + key, "unknown member (a scenario has steps and description)");
+    }
+  }
+  const auto steps = scenario.find("steps");
+  if (steps == scenario.end() || !steps->is_array()) {
+    throw ScenarioError("/steps", "must be an array of steps");
+  }
+  if (steps->size() > kMaxScenarioSteps) {
+    throw ScenarioError("/steps", "more than " + std::to_string(kMaxScenarioSteps) + " steps");
+  }
+  std::vector<ScenarioStep> out;
+  for (std::size_t i = 0; i < steps->size(); ++i) {
+    const std::string pointer = "/steps/" + std::to_string(i);
+    const auto& step = (*steps)[i];
+    if (!step.is_object()) {
+      throw ScenarioError(pointer, "a step must be an object with at_ms and cmd");
+    }
+    const auto at = step.find("at_ms");
+    if (at == step.end() || !at->is_number() || !std::isfinite(at->get<double>()) ||
+        at->get<double>() < 0 || at->get<double>() > kMaxAtMs) {
+      throw ScenarioError(pointer + "/at_ms",
+                          "must be the step's time in ms after loading, from 0 to 86400000");
+    }
+    const auto cmd = step.find("cmd");
+    if (cmd == step.end() || !cmd->is_string()) {
+      throw ScenarioError(pointer + "/cmd", "must be a command name");
+    }
+    if (!allowed_in_scenario(cmd->get<std::string>())) {
+      throw ScenarioError(pointer + "/cmd",
+                          cmd->dump() +
+                              " cannot be a step (steps may use set, condition.set, "
+                              "servo.detach, servo.attach, servo.power_cycle, fault.add, "
+                              "fault.remove, fault.clear, shutdown)");
+    }
+    nlohmann::ordered_json request = step;
+    request.erase("at_ms");
+    out.push_back(
+        {sim::SimDuration(static_cast<std::int64_t>(std::llround(at->get<double>() * kNsPerMs))),
+         std::move(request), pointer});
+  }
+  return out;
+}
+
+std::size_t schedule_scenario(Target& target, const nlohmann::ordered_json& scenario,
+                              const std::string& origin) {
+  std::vector<ScenarioStep> steps = parse_scenario(scenario);
+  // Every step is checked before any is scheduled: a scenario runs whole or not at all.
+  for (const ScenarioStep& step : steps) {
+    if (const auto problem = Api::check(target, step.request)) {
+      throw ScenarioError(step.pointer, *problem);
+    }
+  }
+  for (ScenarioStep& step : steps) {
+    target.schedule_in(
+        step.at, [&target, request = std::move(step.request), where = origin + " " + step.pointer] {
+          const nlohmann::ordered_json reply = Api(target).run(request);
+          if (!reply.value("ok", false)) {
+            target.warn("scenario " + where + ": " + reply.value("error", std::string("failed")));
+          }
+        });
+  }
+  return steps.size();
+}
+
+nlohmann::ordered_json load_scenario_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) {
+    throw ScenarioError("", "cannot be read");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return nlohmann::ordered_json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ScenarioError("", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+ordered_json scenario_load(Target& target, const Args& args) {
+  const bool file = args.has("file");
+  if (file == args.has("scenario")) {
+    refuse("give either \"file\" (a scenario file's path) or \"scenario\" (the scenario itself)");
+  }
+  const std::string origin = file ? *args.string("file") : "request";
+  try {
+    const std::size_t steps = schedule_scenario(
+        target, file ? load_scenario_file(origin) : *args.value("scenario"), origin);
+    return {{"steps", steps}};
+  } catch (const ScenarioError& e) {
+    refuse((file ? origin + ": " : std::string("scenario")) + e.pointer() +
+           (file && e.pointer().empty() ? "" : ": ") + e.what());
+  }
+}
+
+}  // namespace dxlemu::control

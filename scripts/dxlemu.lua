@@ -1,0 +1,515 @@
+-- dxlemu.lua: a Wireshark dissector for the captures of `dxlemu run --pcap FILE` (docs/pcap.md).
+--
+--   wireshark -X lua_script:scripts/dxlemu.lua capture.pcap
+--   tshark -X lua_script:scripts/dxlemu.lua -r capture.pcap -V
+--
+-- or copy this file to Wireshark's personal Lua plugins folder (Help > About > Folders).
+--
+-- A record is link type LINKTYPE_USER0 (147): a 4-byte pseudo-header (version, direction,
+-- protocol, port index) and the bytes on the line. The bytes are decoded as DYNAMIXEL Protocol 1.0
+-- (FF FF ID LEN INST ... checksum) and 2.0 (FF FF FD 00 ID LEN_L LEN_H INST ... CRC-16, byte
+-- stuffing) packets, several per record if need be, with bytes outside any packet shown as
+-- garbage. Client-to-servos packets are instructions, servos-to-client packets are statuses.
+-- Field names: dxlemu.* for the pseudo-header, dxl.* for the packets of the protocol "dynamixel"
+-- (docs/pcap.md lists them).
+
+local bitops = bit32 or bit -- Lua 5.2's bit32, or the BitOp library of other Wireshark builds
+local band, bxor, lshift, rshift = bitops.band, bitops.bxor, bitops.lshift, bitops.rshift
+
+local PSEUDO_HEADER_BYTES = 4
+local PSEUDO_HEADER_VERSION = 1
+local TO_SERVOS, TO_CLIENT = 0, 1
+
+local V1_HEADER = "\255\255"
+local V2_HEADER = "\255\255\253\0"
+local V2_FIXED = 7 -- FF FF FD 00 ID LEN_L LEN_H
+local V1_FIXED = 4 -- FF FF ID LEN
+local V2_MIN_LENGTH = 3 -- instruction + CRC (protocol2.md "Length")
+local V1_MIN_LENGTH = 2 -- instruction + checksum (protocol1.md "Length")
+local INVALID_ID = 0xFF
+local BROADCAST_ID = 0xFE
+local STATUS = 0x55
+
+local PING, READ, WRITE, REG_WRITE = 0x01, 0x02, 0x03, 0x04
+local SYNC_READ, SYNC_WRITE, FAST_SYNC_READ = 0x82, 0x83, 0x8A
+local BULK_READ, BULK_WRITE, FAST_BULK_READ = 0x92, 0x93, 0x9A
+
+local instruction_names = {
+  [PING] = "Ping", [READ] = "Read", [WRITE] = "Write", [REG_WRITE] = "Reg Write",
+  [0x05] = "Action", [0x06] = "Factory Reset", [0x08] = "Reboot", [0x10] = "Clear",
+  [0x20] = "Control Table Backup", [STATUS] = "Status", [SYNC_READ] = "Sync Read",
+  [SYNC_WRITE] = "Sync Write", [FAST_SYNC_READ] = "Fast Sync Read", [BULK_READ] = "Bulk Read",
+  [BULK_WRITE] = "Bulk Write", [FAST_BULK_READ] = "Fast Bulk Read",
+}
+-- protocol2.md "Error": bits 6 ~ 0.
+local error_numbers = {
+  [0] = "None", [1] = "Result Fail", [2] = "Instruction Error", [3] = "CRC Error",
+  [4] = "Data Range Error", [5] = "Data Length Error", [6] = "Data Limit Error",
+  [7] = "Access Error",
+}
+local checksum_status = { [0] = "Bad", [1] = "Good" }
+
+-- Protocol 2.0 CRC-16: polynomial 0x8005, initial value 0, MSB first, no reflection
+-- (protocol2-crc.md; the same table as emulator/wire/crc16.cpp).
+local crc_table = {}
+for i = 0, 255 do
+  local crc = lshift(i, 8)
+  for _ = 1, 8 do
+    if band(crc, 0x8000) ~= 0 then
+      crc = bxor(lshift(crc, 1), 0x8005)
+    else
+      crc = lshift(crc, 1)
+    end
+    crc = band(crc, 0xFFFF)
+  end
+  crc_table[i] = crc
+end
+
+local function crc16(bytes)
+  local crc = 0
+  for i = 1, #bytes do
+    crc = band(bxor(lshift(crc, 8), crc_table[band(bxor(rshift(crc, 8), bytes:byte(i)), 0xFF)]),
+               0xFFFF)
+  end
+  return crc
+end
+
+-- Protocol 1.0 checksum: ~(ID + LENGTH + INSTRUCTION + PARAMETERS) & 0xFF.
+local function checksum1(bytes)
+  local sum = 0
+  for i = 1, #bytes do
+    sum = sum + bytes:byte(i)
+  end
+  return 255 - sum % 256
+end
+
+-- Removes Protocol 2.0 byte stuffing (FF FF FD FD -> FF FF FD, protocol2.md "Packet Process");
+-- returns the bytes as a table and whether anything was removed.
+local function unstuff(bytes)
+  local out, i, stuffed = {}, 1, false
+  while i <= #bytes do
+    if bytes:sub(i, i + 3) == "\255\255\253\253" then
+      for _, byte in ipairs({ 0xFF, 0xFF, 0xFD }) do
+        out[#out + 1] = byte
+      end
+      i, stuffed = i + 4, true
+    else
+      out[#out + 1] = bytes:byte(i)
+      i = i + 1
+    end
+  end
+  return out, stuffed
+end
+
+local capture = Proto("dxlemu", "dxlemu capture")
+-- The filter name "dxl" belongs to Wireshark's Data Exchange Layer dissector, so the protocol is
+-- "dynamixel"; its fields keep the short dxl.* names (none of them is a Data Exchange Layer field).
+local dxl = Proto("dynamixel", "DYNAMIXEL")
+
+local hf = {
+  version = ProtoField.uint8("dxlemu.version", "Pseudo-header version", base.DEC),
+  direction = ProtoField.uint8("dxlemu.direction", "Direction", base.DEC,
+                               { [TO_SERVOS] = "client to servos", [TO_CLIENT] = "servos to client" }),
+  protocol = ProtoField.uint8("dxlemu.protocol", "Protocol", base.DEC,
+                              { [0] = "unknown", [1] = "1.0", [2] = "2.0" }),
+  port = ProtoField.uint8("dxlemu.port", "Port index", base.DEC),
+}
+capture.fields = { hf.version, hf.direction, hf.protocol, hf.port }
+
+local f = {
+  protocol = ProtoField.uint8("dxl.protocol", "Protocol", base.DEC, { [1] = "1.0", [2] = "2.0" }),
+  type = ProtoField.uint8("dxl.packet_type", "Packet type", base.DEC, { [0] = "Instruction", [1] = "Status" }),
+  header = ProtoField.bytes("dxl.header", "Header"),
+  id = ProtoField.uint8("dxl.id", "Packet ID", base.DEC),
+  length = ProtoField.uint16("dxl.length", "Length", base.DEC),
+  instruction = ProtoField.uint8("dxl.instruction", "Instruction", base.HEX, instruction_names),
+  error = ProtoField.uint8("dxl.error", "Error", base.HEX),
+  alert = ProtoField.bool("dxl.error.alert", "Alert (hardware error)", 8, nil, 0x80),
+  error_number = ProtoField.uint8("dxl.error.number", "Error number", base.DEC, error_numbers, 0x7F),
+  -- protocol1.md "Status Packet": one bit per error.
+  e1_instruction = ProtoField.bool("dxl.error.instruction", "Instruction Error", 8, nil, 0x40),
+  e1_overload = ProtoField.bool("dxl.error.overload", "Overload Error", 8, nil, 0x20),
+  e1_checksum = ProtoField.bool("dxl.error.checksum", "Checksum Error", 8, nil, 0x10),
+  e1_range = ProtoField.bool("dxl.error.range", "Range Error", 8, nil, 0x08),
+  e1_overheating = ProtoField.bool("dxl.error.overheating", "Overheating Error", 8, nil, 0x04),
+  e1_angle = ProtoField.bool("dxl.error.angle_limit", "Angle Limit Error", 8, nil, 0x02),
+  e1_voltage = ProtoField.bool("dxl.error.input_voltage", "Input Voltage Error", 8, nil, 0x01),
+  params = ProtoField.bytes("dxl.params", "Parameters"),
+  address = ProtoField.uint16("dxl.address", "Address", base.DEC),
+  data_length = ProtoField.uint16("dxl.data_length", "Data length", base.DEC),
+  data = ProtoField.bytes("dxl.data", "Data"),
+  target_id = ProtoField.uint8("dxl.target_id", "Target ID", base.DEC),
+  crc = ProtoField.uint16("dxl.crc", "CRC", base.HEX),
+  crc_status = ProtoField.uint8("dxl.crc.status", "CRC status", base.DEC, checksum_status),
+  checksum = ProtoField.uint8("dxl.checksum", "Checksum", base.HEX),
+  checksum_status = ProtoField.uint8("dxl.checksum.status", "Checksum status", base.DEC,
+                                     checksum_status),
+  garbage = ProtoField.bytes("dxl.garbage", "Bytes outside any packet"),
+  truncated = ProtoField.bytes("dxl.truncated", "Incomplete packet"),
+}
+dxl.fields = {}
+for _, field in pairs(f) do
+  dxl.fields[#dxl.fields + 1] = field
+end
+
+local ef = {
+  bad_crc = ProtoExpert.new("dxl.crc.bad", "Bad CRC", expert.group.CHECKSUM, expert.severity.ERROR),
+  bad_checksum = ProtoExpert.new("dxl.checksum.bad", "Bad checksum", expert.group.CHECKSUM,
+                                 expert.severity.ERROR),
+  truncated = ProtoExpert.new("dxl.truncated.expert", "Incomplete packet", expert.group.MALFORMED,
+                              expert.severity.ERROR),
+  garbage = ProtoExpert.new("dxl.garbage.expert", "Bytes outside any packet",
+                            expert.group.PROTOCOL, expert.severity.WARN),
+  status_error = ProtoExpert.new("dxl.error.expert", "Status reports an error",
+                                 expert.group.RESPONSE_CODE, expert.severity.WARN),
+  fast_reply = ProtoExpert.new("dxl.fast_reply", "Fast Sync/Bulk Read reply",
+                               expert.group.PROTOCOL, expert.severity.NOTE),
+  version = ProtoExpert.new("dxlemu.version.unknown", "Unknown pseudo-header version",
+                            expert.group.UNDECODED, expert.severity.ERROR),
+}
+dxl.experts = { ef.bad_crc, ef.bad_checksum, ef.truncated, ef.garbage, ef.status_error, ef.fast_reply }
+capture.experts = { ef.version }
+
+-- What starts at `pos` of `buf` (`avail` bytes left): "v2" or "v1" with the packet's size, or
+-- "partial" when a header starts there but the record ends first, or nil. `hint` is the
+-- pseudo-header's protocol (0: try 2.0 first, then 1.0).
+local function classify(buf, pos, avail, hint)
+  local head = buf:raw(pos, math.min(avail, V2_FIXED))
+  if hint ~= 1 and V2_HEADER:sub(1, #head) == head:sub(1, 4) then
+    if #head >= 5 and head:byte(5) == INVALID_ID then
+      return nil
+    end
+    if #head < V2_FIXED then
+      return "partial", avail
+    end
+    local length = head:byte(6) + 256 * head:byte(7)
+    if length < V2_MIN_LENGTH then
+      return nil
+    end
+    local total = V2_FIXED + length
+    if total > avail then
+      return "partial", avail
+    end
+    return "v2", total
+  end
+  if hint ~= 2 and V1_HEADER:sub(1, #head) == head:sub(1, 2) then
+    if #head >= 3 and head:byte(3) == INVALID_ID then
+      return nil
+    end
+    if #head < V1_FIXED then
+      return "partial", avail
+    end
+    local length = head:byte(4)
+    if length < V1_MIN_LENGTH then
+      return nil
+    end
+    local total = V1_FIXED + length
+    if total > avail then
+      return "partial", avail
+    end
+    return "v1", total
+  end
+  return nil
+end
+
+-- True when a complete packet starts somewhere after `pos`: then a header at `pos` that runs past
+-- the record is noise, as the emulator's framer would find after rescanning.
+local function complete_packet_after(buf, pos, len, hint)
+  for p = pos + 1, len - 1 do
+    local kind = classify(buf, p, len - p, hint)
+    if kind == "v1" or kind == "v2" then
+      return true
+    end
+  end
+  return false
+end
+
+-- The parameters as a TvbRange: the packet's own bytes, or a new data source when byte stuffing
+-- was removed. nil when there are none.
+local function params_range(buf, offset, bytes_table, stuffed, count)
+  if count <= 0 then
+    return nil
+  end
+  if not stuffed then
+    return buf(offset, count)
+  end
+  local ba = ByteArray.new()
+  ba:set_size(count)
+  for i = 1, count do
+    ba:set_index(i - 1, bytes_table[#bytes_table - count + i])
+  end
+  return ba:tvb("Unstuffed parameters")(0, count)
+end
+
+local function le(range)
+  return range:le_uint()
+end
+
+-- Decodes an instruction's parameters under `tree` and returns a short text for the Info column.
+local function instruction_params(tree, p, protocol, instruction)
+  local n = p and p:len() or 0
+  local a = protocol == 2 and 2 or 1 -- address and length fields: 2 bytes in 2.0, 1 in 1.0
+  local add = protocol == 2 and tree.add_le or tree.add
+  local function field(fld, off, size)
+    add(tree, fld, p(off, size))
+    return le(p(off, size))
+  end
+  if (instruction == READ) and n >= 2 * a then
+    local address = field(f.address, 0, a)
+    local count = field(f.data_length, a, a)
+    return string.format(" addr=%d len=%d", address, count)
+  end
+  if (instruction == WRITE or instruction == REG_WRITE) and n > a then
+    local address = field(f.address, 0, a)
+    tree:add(f.data_length, p(a, n - a), n - a):set_generated()
+    tree:add(f.data, p(a, n - a))
+    return string.format(" addr=%d len=%d", address, n - a)
+  end
+  if (instruction == SYNC_READ or instruction == FAST_SYNC_READ) and n >= 2 * a then
+    local address = field(f.address, 0, a)
+    local count = field(f.data_length, a, a)
+    local ids = {}
+    for off = 2 * a, n - 1 do
+      tree:add(f.target_id, p(off, 1))
+      ids[#ids + 1] = tostring(p(off, 1):uint())
+    end
+    return string.format(" addr=%d len=%d ids=%s", address, count, table.concat(ids, ","))
+  end
+  if instruction == SYNC_WRITE and n >= 2 * a then
+    local address = field(f.address, 0, a)
+    local count = field(f.data_length, a, a)
+    local ids = {}
+    local off = 2 * a
+    while count > 0 and off + 1 + count <= n do
+      local block = tree:add(f.target_id, p(off, 1))
+      block:add(f.data, p(off + 1, count))
+      ids[#ids + 1] = tostring(p(off, 1):uint())
+      off = off + 1 + count
+    end
+    return string.format(" addr=%d len=%d ids=%s", address, count, table.concat(ids, ","))
+  end
+  if (instruction == BULK_READ or instruction == FAST_BULK_READ or instruction == BULK_WRITE) then
+    -- 2.0: ID, address (2), length (2) [, data] per servo; 1.0 Bulk Read: 0x00, then length,
+    -- ID, address per servo.
+    local ids = {}
+    local off = protocol == 2 and 0 or 1
+    local block_size = protocol == 2 and 5 or 3
+    while off + block_size <= n do
+      local id_off = protocol == 2 and off or off + 1
+      local block = tree:add(f.target_id, p(id_off, 1))
+      local count
+      if protocol == 2 then
+        block:add_le(f.address, p(off + 1, 2))
+        count = le(p(off + 3, 2))
+        block:add_le(f.data_length, p(off + 3, 2))
+      else
+        count = p(off, 1):uint()
+        block:add(f.data_length, p(off, 1))
+        block:add(f.address, p(off + 2, 1))
+      end
+      ids[#ids + 1] = tostring(p(id_off, 1):uint())
+      off = off + block_size
+      if instruction == BULK_WRITE then
+        if off + count > n then
+          break
+        end
+        if count > 0 then
+          block:add(f.data, p(off, count))
+        end
+        off = off + count
+      end
+    end
+    return " ids=" .. table.concat(ids, ",")
+  end
+  return n > 0 and string.format(" params=%d bytes", n) or ""
+end
+
+-- Adds the error byte of a status (`range`) with its bits.
+local function error_field(tree, range, protocol)
+  local item = tree:add(f.error, range)
+  if protocol == 2 then
+    item:add(f.alert, range)
+    item:add(f.error_number, range)
+  else
+    for _, fld in ipairs({ f.e1_instruction, f.e1_overload, f.e1_checksum, f.e1_range,
+                           f.e1_overheating, f.e1_angle, f.e1_voltage }) do
+      item:add(fld, range)
+    end
+  end
+  local value = range:uint()
+  if value ~= 0 then
+    item:add_proto_expert_info(ef.status_error, string.format("Status error 0x%02x", value))
+  end
+  return value
+end
+
+-- Dissects one complete packet of `total` bytes at `pos`; returns its Info text.
+local function dissect_packet(buf, pos, total, kind, direction, tree)
+  local protocol = kind == "v2" and 2 or 1
+  local is_status = direction == TO_CLIENT
+  local ptree = tree:add(dxl, buf(pos, total))
+  local header = protocol == 2 and 4 or 2
+  ptree:add(f.protocol, buf(pos, header), protocol):set_generated()
+  ptree:add(f.type, buf(pos, total), is_status and 1 or 0):set_generated()
+  ptree:add(f.header, buf(pos, header))
+  local id = buf(pos + header, 1):uint()
+  ptree:add(f.id, buf(pos + header, 1))
+  local check_size = protocol == 2 and 2 or 1
+  local body = pos + header + 1 + (protocol == 2 and 2 or 1) -- the instruction byte
+  if protocol == 2 then
+    ptree:add_le(f.length, buf(pos + header + 1, 2))
+  else
+    ptree:add(f.length, buf(pos + header + 1, 1))
+  end
+  local check_at = pos + total - check_size
+  local text
+  local role = is_status and "Status" or "Instruction"
+  if protocol == 2 then
+    local instruction = buf(body, 1):uint()
+    ptree:add(f.instruction, buf(body, 1))
+    local fast = is_status and id == BROADCAST_ID and instruction == STATUS
+    -- Stuffing covers the instruction and parameters; Fast replies are never stuffed.
+    local region = buf:raw(body, check_at - body)
+    local bytes, stuffed = unstuff(region)
+    if fast then
+      bytes, stuffed = { region:byte(1, -1) }, false
+    end
+    local count = #bytes - 1
+    local p = params_range(buf, body + 1, bytes, stuffed, count)
+    if instruction == STATUS then
+      text = string.format("%s id=%d", role, id)
+    else
+      text = string.format("%s id=%d %s", role, id, instruction_names[instruction]
+                           or string.format("0x%02x", instruction))
+    end
+    if is_status then
+      if p then
+        local err = error_field(ptree, p(0, 1), 2)
+        text = text .. string.format(" err=0x%02x", err)
+        if count > 1 then
+          ptree:add(f.params, p(1, count - 1))
+          text = text .. string.format(" params=%d bytes", count - 1)
+        end
+      end
+      if fast then
+        ptree:add_proto_expert_info(ef.fast_reply,
+          "Fast Sync/Bulk Read reply: its blocks (error, ID, data, CRC) are shown as parameters")
+        text = text .. " (fast reply)"
+      end
+    elseif p then
+      local ptree2 = ptree:add(f.params, p)
+      text = text .. instruction_params(ptree2, p, 2, instruction)
+    end
+    local given = buf(check_at, 2):le_uint()
+    local expected = crc16(buf:raw(pos, check_at - pos))
+    local item = ptree:add_le(f.crc, buf(check_at, 2))
+    ptree:add(f.crc_status, buf(check_at, 2), given == expected and 1 or 0):set_generated()
+    if given ~= expected then
+      item:append_text(string.format(" [incorrect, should be 0x%04x]", expected))
+      item:add_proto_expert_info(ef.bad_crc,
+                                 string.format("Bad CRC 0x%04x, expected 0x%04x", given, expected))
+      text = text .. " [BAD CRC]"
+    end
+  else
+    local count = check_at - body - 1
+    if is_status then
+      local err = error_field(ptree, buf(body, 1), 1)
+      text = string.format("%s id=%d err=0x%02x", role, id, err)
+      if count > 0 then
+        ptree:add(f.params, buf(body + 1, count))
+        text = text .. string.format(" params=%d bytes", count)
+      end
+    else
+      local instruction = buf(body, 1):uint()
+      ptree:add(f.instruction, buf(body, 1))
+      text = string.format("%s id=%d %s", role, id, instruction_names[instruction]
+                           or string.format("0x%02x", instruction))
+      if count > 0 then
+        local p = buf(body + 1, count)
+        local ptree2 = ptree:add(f.params, p)
+        text = text .. instruction_params(ptree2, p, 1, instruction)
+      end
+    end
+    local given = buf(check_at, 1):uint()
+    local expected = checksum1(buf:raw(pos + header, check_at - pos - header))
+    local item = ptree:add(f.checksum, buf(check_at, 1))
+    ptree:add(f.checksum_status, buf(check_at, 1), given == expected and 1 or 0):set_generated()
+    if given ~= expected then
+      item:append_text(string.format(" [incorrect, should be 0x%02x]", expected))
+      item:add_proto_expert_info(ef.bad_checksum,
+                                 string.format("Bad checksum 0x%02x, expected 0x%02x", given, expected))
+      text = text .. " [BAD CHECKSUM]"
+    end
+  end
+  ptree:append_text(string.format(" %s.0, %s", protocol, text))
+  return text
+end
+
+function capture.dissector(buf, pinfo, tree)
+  local len = buf:len()
+  if len < PSEUDO_HEADER_BYTES then
+    return 0
+  end
+  local version = buf(0, 1):uint()
+  local direction = buf(1, 1):uint()
+  local hint = buf(2, 1):uint()
+  local port = buf(3, 1):uint()
+  local htree = tree:add(capture, buf(0, PSEUDO_HEADER_BYTES))
+  local vitem = htree:add(hf.version, buf(0, 1))
+  htree:add(hf.direction, buf(1, 1))
+  htree:add(hf.protocol, buf(2, 1))
+  htree:add(hf.port, buf(3, 1))
+  htree:append_text(string.format(", port %d, %s", port,
+                                  direction == TO_SERVOS and "client to servos" or "servos to client"))
+  pinfo.cols.protocol = "DXL"
+  local servos = string.format("port %d", port)
+  pinfo.cols.src = direction == TO_SERVOS and "client" or servos
+  pinfo.cols.dst = direction == TO_SERVOS and servos or "client"
+  if version ~= PSEUDO_HEADER_VERSION then
+    vitem:add_proto_expert_info(ef.version)
+    return len
+  end
+
+  local infos, protocols = {}, {}
+  local pos, garbage_from = PSEUDO_HEADER_BYTES, nil
+  local function flush_garbage(to)
+    if garbage_from then
+      local item = tree:add(f.garbage, buf(garbage_from, to - garbage_from))
+      item:add_proto_expert_info(ef.garbage)
+      infos[#infos + 1] = string.format("%d bytes of garbage", to - garbage_from)
+      garbage_from = nil
+    end
+  end
+  while pos < len do
+    local kind, total = classify(buf, pos, len - pos, hint)
+    if kind == "partial" and complete_packet_after(buf, pos, len, hint) then
+      kind = nil
+    end
+    if kind == nil then
+      garbage_from = garbage_from or pos
+      pos = pos + 1
+    else
+      flush_garbage(pos)
+      if kind == "partial" then
+        local item = tree:add(f.truncated, buf(pos, total))
+        item:add_proto_expert_info(ef.truncated)
+        infos[#infos + 1] = "incomplete packet"
+      else
+        infos[#infos + 1] = dissect_packet(buf, pos, total, kind, direction, tree)
+        protocols[kind] = true
+      end
+      pos = pos + total
+    end
+  end
+  flush_garbage(len)
+  if protocols.v1 and not protocols.v2 then
+    pinfo.cols.protocol = "DXL 1.0"
+  elseif protocols.v2 and not protocols.v1 then
+    pinfo.cols.protocol = "DXL 2.0"
+  end
+  pinfo.cols.info = table.concat(infos, "; ")
+  return len
+end
+
+-- LINKTYPE_USER0 (DLT 147) is Wireshark's WTAP_ENCAP_USER0.
+DissectorTable.get("wtap_encap"):add((wtap_encaps or wtap).USER0, capture)

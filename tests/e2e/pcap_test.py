@@ -1,0 +1,245 @@
+"""End-to-end tests of `dxlemu run --pcap FILE` and the Wireshark dissector scripts/dxlemu.lua
+(docs/pcap.md): the real daemon writes a capture of real traffic over its PTY, Python checks the
+file's structure, and tshark with the dissector decodes it.
+
+Run as a script (`python3 pcap_test.py`): without tshark the dissector tests are skipped and the
+script exits 77, which ctest reports as skipped.
+"""
+import json
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+from pathlib import Path
+
+from dxl_client import Daemon, Port, crc16, packet1, packet2
+
+PING, READ, WRITE, SYNC_READ, FAST_SYNC_READ, STATUS = 0x01, 0x02, 0x03, 0x82, 0x8A, 0x55
+PRESENT_POSITION, GOAL_POSITION = 132, 116
+TO_SERVOS, TO_CLIENT = 0, 1
+LUA = Path(__file__).resolve().parents[2] / "scripts" / "dxlemu.lua"
+TSHARK = shutil.which("tshark")
+
+PCAP_MAGIC, LINKTYPE_USER0 = 0xA1B2C3D4, 147
+GLOBAL_HEADER, RECORD_HEADER = struct.Struct("<IHHiIII"), struct.Struct("<IIII")
+
+
+def read_pcap(path):
+    """(global header fields, [(microseconds since the Unix epoch, bytes of the record)])."""
+    data = Path(path).read_bytes()
+    header = GLOBAL_HEADER.unpack_from(data)
+    records, at = [], GLOBAL_HEADER.size
+    while at < len(data):
+        sec, usec, captured, original = RECORD_HEADER.unpack_from(data, at)
+        at += RECORD_HEADER.size
+        assert captured == original, (captured, original)
+        records.append((sec * 1_000_000 + usec, data[at:at + captured]))
+        at += captured
+    return header, records
+
+
+def write_pcap(path, records):
+    """A capture as dxlemu writes it: `records` are (direction, protocol, port, line bytes)."""
+    with open(path, "wb") as f:
+        f.write(GLOBAL_HEADER.pack(PCAP_MAGIC, 2, 4, 0, 0, 262144, LINKTYPE_USER0))
+        for i, (direction, protocol, port, line) in enumerate(records):
+            body = bytes([1, direction, protocol, port]) + line
+            f.write(RECORD_HEADER.pack(1_700_000_000 + i, 0, len(body), len(body)) + body)
+
+
+def tshark(path, *fields):
+    """One list per record: for each field, the list of its values in that record."""
+    args = ["tshark", "-X", f"lua_script:{LUA}", "-r", str(path), "-T", "fields",
+            "-E", "occurrence=a", "-E", "aggregator=|", "-E", "separator=\t"]
+    for field in fields:
+        args += ["-e", field]
+    result = subprocess.run(args, capture_output=True, text=True, timeout=60)
+    if result.returncode != 0 or "Lua: Error" in result.stderr:
+        raise AssertionError("tshark failed: " + result.stderr)
+    rows = []
+    for line in result.stdout.splitlines():
+        rows.append([value.split("|") if value else [] for value in line.split("\t")])
+    return rows
+
+
+def with_bad_crc(packet):
+    return packet[:-2] + bytes([packet[-2] ^ 0xFF, packet[-1]])
+
+
+class CaptureTest(unittest.TestCase):
+    """The real daemon's capture of Ping, Read, Write, a bad CRC and a Sync Read."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        link = os.path.join(cls.dir.name, "dxl0")
+        cls.pcap = os.path.join(cls.dir.name, "capture.pcap")
+        trace = os.path.join(cls.dir.name, "trace.jsonl")
+        cls.started = time.time()
+        daemon = Daemon("--link", link, "--pcap", cls.pcap, "--trace", trace)
+        try:
+            port = Port(link)
+            cls.sent = [packet2(1, PING),
+                        packet2(2, READ, bytes([PRESENT_POSITION, 0, 4, 0])),
+                        packet2(3, WRITE, bytes([GOAL_POSITION, 0, 0x00, 0x04, 0x00, 0x00])),
+                        with_bad_crc(packet2(1, READ, bytes([PRESENT_POSITION, 0, 4, 0]))),
+                        packet2(0xFE, SYNC_READ, bytes([PRESENT_POSITION, 0, 4, 0, 1, 2, 3]))]
+            cls.replies = []
+            for packet, replies in zip(cls.sent, (1, 1, 1, 1, 3)):
+                port.write(packet)
+                for _ in range(replies):
+                    cls.replies.append(port.status2())
+            port.close()
+        finally:
+            cls.exit_code = daemon.stop()
+        with open(trace) as f:
+            cls.trace = [json.loads(line) for line in f]
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def test_the_daemon_stops_cleanly_after_every_reply(self):
+        self.assertEqual(self.exit_code, 0)
+        self.assertEqual([r[0] for r in self.replies], [1, 2, 3, 1, 1, 2, 3])
+        self.assertEqual(self.replies[3][1], 0x03)  # the bad CRC is answered with CRC Error
+
+    def test_the_file_is_a_classic_pcap_with_one_record_per_packet_each_way(self):
+        header, records = read_pcap(self.pcap)
+        self.assertEqual(header, (PCAP_MAGIC, 2, 4, 0, 0, 262144, LINKTYPE_USER0))
+        self.assertEqual(len(records), len(self.sent) + len(self.replies))
+        # Same packets, same order as the JSON trace, which --trace writes from the same observer.
+        self.assertEqual(len(records), len(self.trace))
+        for (_, record), line in zip(records, self.trace):
+            direction = TO_SERVOS if line["dir"] == "in" else TO_CLIENT
+            self.assertEqual(record[:4], bytes([1, direction, line["protocol"], 0]))
+            if "hex" in line:
+                self.assertEqual(record[4:].hex(" ").upper(), line["hex"])
+        instructions = [record[4:] for _, record in records if record[1] == TO_SERVOS]
+        self.assertEqual(instructions, self.sent)  # the bad packet too, found among the bytes in
+        times = [t for t, _ in records]
+        self.assertEqual(times, sorted(times))
+        # Wall-clock time at start plus simulated time (realtime mode: about the wall clock).
+        self.assertLess(abs(times[0] / 1e6 - self.started), 30)
+        for (t, _), line in zip(records, self.trace):
+            # Both are the same simulated time; the capture's is cut to microseconds.
+            self.assertAlmostEqual((t - times[0]) / 1e6, line["t"] - self.trace[0]["t"], delta=1.5e-6)
+
+    @unittest.skipUnless(TSHARK, "tshark is not installed")
+    def test_wireshark_decodes_directions_ids_instructions_and_addresses(self):
+        rows = tshark(self.pcap, "dxlemu.direction", "dxlemu.port", "dxl.protocol", "dxl.id",
+                      "dxl.instruction", "dxl.address", "dxl.data_length", "dxl.error",
+                      "dxl.target_id")
+        decoded = [tuple(tuple(values) for values in row) for row in rows]
+        self.assertEqual(decoded, [
+            (("0",), ("0",), ("2",), ("1",), ("0x01",), (), (), (), ()),
+            (("1",), ("0",), ("2",), ("1",), ("0x55",), (), (), ("0x00",), ()),
+            (("0",), ("0",), ("2",), ("2",), ("0x02",), ("132",), ("4",), (), ()),
+            (("1",), ("0",), ("2",), ("2",), ("0x55",), (), (), ("0x00",), ()),
+            (("0",), ("0",), ("2",), ("3",), ("0x03",), ("116",), ("4",), (), ()),
+            (("1",), ("0",), ("2",), ("3",), ("0x55",), (), (), ("0x00",), ()),
+            (("0",), ("0",), ("2",), ("1",), ("0x02",), ("132",), ("4",), (), ()),
+            (("1",), ("0",), ("2",), ("1",), ("0x55",), (), (), ("0x03",), ()),
+            (("0",), ("0",), ("2",), ("254",), ("0x82",), ("132",), ("4",), (), ("1", "2", "3")),
+            (("1",), ("0",), ("2",), ("1",), ("0x55",), (), (), ("0x00",), ()),
+            (("1",), ("0",), ("2",), ("2",), ("0x55",), (), (), ("0x00",), ()),
+            (("1",), ("0",), ("2",), ("3",), ("0x55",), (), (), ("0x00",), ()),
+        ])
+
+    @unittest.skipUnless(TSHARK, "tshark is not installed")
+    def test_wireshark_flags_the_bad_crc_and_only_it(self):
+        rows = tshark(self.pcap, "dxl.crc.status", "_ws.expert.message")
+        statuses = [row[0] for row in rows]
+        self.assertEqual(statuses, [["1"]] * 6 + [["0"]] + [["1"]] * 5)
+        bad = packet2(1, READ, bytes([PRESENT_POSITION, 0, 4, 0]))
+        good_crc = crc16(bad[:-2])
+        self.assertEqual(rows[6][1], [f"Bad CRC 0x{good_crc ^ 0xFF:04x}, expected 0x{good_crc:04x}"])
+        self.assertEqual(rows[7][1], ["Status error 0x03"])  # the servo's CRC Error status
+        self.assertEqual([row[1] for i, row in enumerate(rows) if i not in (6, 7)], [[]] * 10)
+
+
+@unittest.skipUnless(TSHARK, "tshark is not installed")
+class DissectorTest(unittest.TestCase):
+    """The dissector on hand-made records: what the daemon writes rarely, or never."""
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.dir.cleanup)
+        self.path = os.path.join(self.dir.name, "made.pcap")
+
+    def decode(self, records, *fields):
+        write_pcap(self.path, records)
+        return tshark(self.path, *fields)
+
+    def test_several_packets_and_garbage_in_one_record(self):
+        line = (b"\x00\x13" + packet2(1, PING) + b"\xff" + packet2(2, READ, bytes([10, 0, 1, 0]))
+                + b"\xfe\xfe")
+        rows = self.decode([(TO_SERVOS, 0, 0, line)],
+                           "dxl.id", "dxl.instruction", "dxl.garbage", "dxl.crc.status", "_ws.col.Info")
+        self.assertEqual(rows[0][:4], [["1", "2"], ["0x01", "0x02"], ["0013", "ff", "fefe"],
+                                       ["1", "1"]])
+        self.assertIn("Instruction id=2 Read addr=10 len=1", rows[0][4][0])
+
+    def test_protocol_1_instructions_and_statuses_with_their_checksums(self):
+        bad = bytearray(packet1(4, WRITE, bytes([30, 0x00, 0x02])))
+        bad[-1] ^= 0x01
+        rows = self.decode([(TO_SERVOS, 1, 2, packet1(3, READ, bytes([36, 2]))),
+                            (TO_CLIENT, 1, 2, bytes([0xFF, 0xFF, 3, 4, 0x24, 0x00, 0x02])
+                             + bytes([~(3 + 4 + 0x24 + 0x02) & 0xFF])),
+                            (TO_SERVOS, 1, 2, bytes(bad))],
+                           "dxlemu.port", "dxl.protocol", "dxl.id", "dxl.instruction", "dxl.address",
+                           "dxl.data_length", "dxl.error", "dxl.error.overheating", "dxl.params",
+                           "dxl.checksum.status", "_ws.expert.message")
+        self.assertEqual(rows[0][:10], [["2"], ["1"], ["3"], ["0x02"], ["36"], ["2"], [], [], ["2402"],
+                                        ["1"]])
+        self.assertEqual(rows[1][:10], [["2"], ["1"], ["3"], [], [], [], ["0x24"], ["1"], ["0002"],
+                                        ["1"]])
+        self.assertEqual(rows[1][10], ["Status error 0x24"])
+        self.assertEqual(rows[2][3:6] + rows[2][9:10], [["0x03"], ["30"], ["2"], ["0"]])
+        self.assertTrue(rows[2][10][0].startswith("Bad checksum"))
+
+    def test_stuffed_parameters_are_unstuffed(self):
+        # Writing FF FF FD to address 0x0100: the sender stuffs a FD after FF FF FD.
+        packet = packet2(5, WRITE, bytes([0x00, 0x01, 0xFF, 0xFF, 0xFD]))
+        self.assertIn(b"\xff\xff\xfd\xfd", packet[7:])
+        rows = self.decode([(TO_SERVOS, 2, 0, packet)],
+                           "dxl.address", "dxl.data_length", "dxl.data", "dxl.crc.status")
+        self.assertEqual(rows[0], [["256"], ["3"], ["fffffd"], ["1"]])
+
+    def test_a_fast_sync_read_reply_decodes_as_a_status_with_parameters(self):
+        request = packet2(0xFE, FAST_SYNC_READ, bytes([PRESENT_POSITION, 0, 4, 0, 1, 2]))
+        # protocol2.md "Fast Sync Read": one packet from 0xFE, a block per servo, each with its CRC.
+        body = bytes([0xFF, 0xFF, 0xFD, 0x00, 0xFE, 0x00, 0x00, STATUS, 0x00, 1, 0, 8, 0, 0])
+        first = crc16(body)
+        body += bytes([first & 0xFF, first >> 8, 0x00, 2, 0, 8, 0, 0])
+        length = len(body) - 7 + 2
+        body = body[:5] + bytes([length & 0xFF, length >> 8]) + body[7:]
+        crc = crc16(body)
+        reply = body + bytes([crc & 0xFF, crc >> 8])
+        rows = self.decode([(TO_SERVOS, 2, 0, request), (TO_CLIENT, 2, 0, reply)],
+                           "dxl.id", "dxl.instruction", "dxl.error", "dxl.params", "dxl.crc.status",
+                           "dxl.target_id", "_ws.expert.message")
+        self.assertEqual(rows[0][:2] + rows[0][5:6], [["254"], ["0x8a"], ["1", "2"]])
+        self.assertEqual(rows[1][:5], [["254"], ["0x55"], ["0x00"],
+                                       [reply[9:-2].hex()], ["1"]])
+        self.assertIn("Fast Sync/Bulk Read reply", rows[1][6][0])
+
+    def test_an_incomplete_packet_at_the_end_is_flagged(self):
+        rows = self.decode([(TO_SERVOS, 2, 0, packet2(1, PING) + packet2(2, PING)[:6])],
+                           "dxl.id", "dxl.truncated", "_ws.expert.message")
+        self.assertEqual(rows[0][:2], [["1"], ["fffffd000203"]])
+        self.assertEqual(rows[0][2], ["Incomplete packet"])
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    if not result.wasSuccessful():
+        sys.exit(1)
+    if not TSHARK:
+        print("pcap_test: tshark is not installed: the dissector was not tested")
+        sys.exit(77)
+    sys.exit(0)
