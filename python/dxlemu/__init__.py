@@ -1,0 +1,17 @@
+"""dxlemu: drive the dxlemu DYNAMIXEL bus emulator from Python (standard library only).
+
+- `Emulator` (daemon.py): start `dxlemu run` on a temporary bus, wait until it is ready, stop it.
+- `Control` (control.py): the control API: get/set items, conditions, faults, clock, stats.
+- `Client`, `Port` (protocol.py): a minimal controller speaking DYNAMIXEL Protocol 2.0/1.0 over
+  the emulator's pseudo-terminal.
+- pytest_plugin.py: the `dxlemu` fixture (`pytest -p dxlemu.pytest_plugin`).
+
+See docs/python.md.
+"""
+from .control import Control, ControlError
+from .daemon import DaemonError, DaemonProcess, Emulator, PortInfo, find_binary
+from .protocol import BadPacket, Client, CommError, CommTimeout, Port, Reply, Status
+
+__all__ = ["BadPacket", "Client", "CommError", "CommTimeout", "Control", "ControlError",
+           "DaemonError", "DaemonProcess", "Emulator", "Port", "PortInfo", "Reply", "Status",
+           "find_binary"]

@@ -1,0 +1,62 @@
+"""The control client against the real daemon: each convenience method, errors, events."""
+import pytest
+
+from dxlemu import ControlError
+
+
+def test_get_and_set_an_item_and_raw_bytes(dxlemu):
+    control = dxlemu.control
+    assert control.set(2, "present_temperature", 70) == 70
+    assert control.get(2, "present_temperature") == 70
+    assert control.get(1, address=132, size=4) == 2048
+    assert control.get(1, "id", port="dxl0") == 1
+
+
+def test_list_and_stats_describe_the_bus(dxlemu):
+    listing = dxlemu.control.list()
+    assert [servo["id"] for servo in listing["ports"][0]["servos"]] == [1, 2, 3]
+    assert dxlemu.control.stats()["dxl0"]["frames"] == 0
+    assert "bad_checks" in dxlemu.control.stats("dxl0")["dxl0"]
+
+
+def test_conditions_and_plugging(dxlemu):
+    control = dxlemu.control
+    assert control.condition_set(2, ambient_temperature=40)["ambient_temperature"] == 40.0
+    assert control.detach(3) == {"attached": False, "booting": False}
+    assert control.attach(3) == {"attached": True, "booting": True}
+    assert control.power_cycle(1) == {"attached": True, "booting": True}
+
+
+@pytest.mark.dxlemu(timing="manual")
+def test_the_clock_is_stepped_in_manual_timing(dxlemu):
+    assert dxlemu.control.clock_now() == 0
+    assert dxlemu.control.clock_step(ms=250) == 250_000_000
+    assert dxlemu.control.clock_now() == 250_000_000
+
+
+def test_a_refused_request_raises_with_the_daemons_message_and_the_connection_stays(dxlemu):
+    control = dxlemu.control
+    with pytest.raises(ControlError, match="no servo 9 on dxl0"):
+        control.get(9, "id")
+    with pytest.raises(ControlError, match="unknown command"):
+        control.call("gett")
+    assert control.request("get", servo=1, item="id")["ok"]
+    assert "help" in control.help()
+
+
+def test_no_events_without_a_subscription(dxlemu):
+    assert dxlemu.control.events() == []
+    assert dxlemu.control.events(timeout=0.05) == []
+
+
+def test_trace_events_are_kept_apart_from_replies(dxlemu):
+    control = dxlemu.control
+    if "trace.subscribe" not in control.help():
+        pytest.skip("this dxlemu has no trace.subscribe yet")
+    control.trace_subscribe()
+    with dxlemu.client() as client:
+        client.ping(1)
+    assert control.get(1, "id") == 1  # a reply, whatever events came before it
+    events = control.events(timeout=1.0)
+    assert events and all(event["event"] == "trace" for event in events)
+    control.trace_unsubscribe()
