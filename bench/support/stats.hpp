@@ -1,0 +1,16 @@
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace dxlemu::bench {
+
+/// Nearest-rank percentile `p` (0 < p <= 1) of `sorted` (ascending, not empty): the smallest
+/// sample with at least p of the samples at or below it.
+std::chrono::nanoseconds percentile(const std::vector<std::chrono::nanoseconds>& sorted, double p);
+
+/// `d` in microseconds with one decimal ("12.3").
+std::string us(std::chrono::nanoseconds d);
+
+}  // namespace dxlemu::bench
