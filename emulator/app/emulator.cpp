@@ -311,6 +311,8 @@ void Emulator::run(std::ostream& out) {
     log(LogLevel::Info, port->config.name + ": " + std::to_string(port->config.servos.size()) +
                             " servos on " + port->pty->slave_path());
   }
+  // Events scheduled before the loop starts (a --scenario's steps) need the timer too.
+  driver_.rearm();
   io_.run();
   if (shutting_down_) {
     // Let the shutdown reply reach its client.

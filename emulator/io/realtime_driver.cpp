@@ -34,27 +34,52 @@ void RealTimeDriver::catch_up() {
 }
 
 void RealTimeDriver::rearm() {
-  const auto deadline = scheduler_.next_deadline();
-  if (!deadline || (pace_ == Pace::Manual && *deadline > scheduler_.now())) {
-    timer_.cancel();  // in manual time a future event waits for the clock to be stepped
+  for (;;) {
+    const auto deadline = scheduler_.next_deadline();
+    if (!deadline || (pace_ == Pace::Manual && *deadline > scheduler_.now())) {
+      disarm();  // in manual time a future event waits for the clock to be stepped
+      return;
+    }
+    // Due already (every reply under `fast` and `manual` timing, or a deadline that passed while
+    // the thread was busy): run it now. Going through the timer would cost a timerfd_settime
+    // and an epoll round per event, the largest cost of a round trip under `fast` timing.
+    if (pace_ == Pace::Manual || to_steady(*deadline) <= std::chrono::steady_clock::now()) {
+      disarm();
+      run_due();
+      continue;
+    }
+    // Wall-clock time: wake kSpinWindow early and spin the rest (spin_to_deadline).
+    const auto expiry = to_steady(*deadline) - kSpinWindow;
+    if (armed_ && *armed_ == expiry) {
+      return;  // already waiting for this deadline
+    }
+    armed_ = expiry;
+    timer_.expires_at(expiry);
+    timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (ec) {
+        return;  // re-armed or shut down
+      }
+      armed_.reset();
+      spin_to_deadline();
+      run_due();
+      rearm();
+    });
     return;
   }
-  // Manual time: the deadline is the present (simulated time may be ahead of the wall clock once
-  // it has been stepped), so the timer fires at once. Wall-clock time: wake kSpinWindow early and
-  // spin the rest (spin_to_deadline).
-  timer_.expires_at(pace_ == Pace::Manual ? std::chrono::steady_clock::now()
-                                          : to_steady(*deadline) - kSpinWindow);
-  timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec) {
-      return;  // re-armed or shut down
-    }
-    spin_to_deadline();
-    catch_up();
-    if (after_events_) {
-      after_events_();
-    }
-    rearm();
-  });
+}
+
+void RealTimeDriver::disarm() {
+  if (armed_) {
+    timer_.cancel();
+    armed_.reset();
+  }
+}
+
+void RealTimeDriver::run_due() {
+  catch_up();
+  if (after_events_) {
+    after_events_();
+  }
 }
 
 void RealTimeDriver::spin_to_deadline() const {

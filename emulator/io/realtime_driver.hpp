@@ -4,6 +4,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <utility>
 
 #include "sim/scheduler.hpp"
@@ -44,7 +45,8 @@ class RealTimeDriver {
   /// Runs every event due by now, so that the scheduler's now() is the present.
   void catch_up();
 
-  /// Arms the timer for the scheduler's next deadline (call after scheduling anything).
+  /// Runs what is due now and arms the timer for the scheduler's next deadline (call after
+  /// scheduling anything). Events already due run at once, without the timer.
   void rearm();
 
   /// Called after the events of each timer wake-up have run (e.g. to save what they changed).
@@ -54,11 +56,17 @@ class RealTimeDriver {
   sim::SimTime wall_now() const;
   std::chrono::steady_clock::time_point to_steady(sim::SimTime t) const;
   void spin_to_deadline() const;
+  /// Cancels the pending wait, if any.
+  void disarm();
+  /// Runs every event due by now, then the after-events callback.
+  void run_due();
 
   sim::Scheduler& scheduler_;
   Pace pace_;
   std::function<void()> after_events_;
   boost::asio::steady_timer timer_;
+  /// When the pending wait expires; empty when none is pending.
+  std::optional<std::chrono::steady_clock::time_point> armed_;
   std::chrono::steady_clock::time_point start_;
 };
 

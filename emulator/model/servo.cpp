@@ -52,7 +52,17 @@ bool is_v1_family(Family family) {
 
 Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDuration tick)
     : table_(std::move(spec)), motion_(table_, tick) {
-  table_.set("id", id);
+  items_.id = table_.index("id");
+  items_.baud_rate = table_.index("baud_rate");
+  items_.return_delay_time = table_.index("return_delay_time");
+  // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
+  items_.protocol = item({"protocol_type", "protocol_version"});
+  items_.hardware_error_status = item({"hardware_error_status"});
+  items_.status_return_level = item({"status_return_level"});
+  items_.secondary_id = item({"secondary_id"});
+  items_.bus_watchdog = item({"bus_watchdog"});
+  items_.torque_enable = item({"torque_enable"});
+  table_.set(items_.id, id);
   commit_deferred();
 }
 
@@ -66,26 +76,25 @@ std::optional<std::size_t> Servo::item(std::initializer_list<std::string_view> k
 }
 
 void Servo::commit_deferred() {
-  id_ = static_cast<std::uint8_t>(table_.get("id"));
-  // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
-  if (const auto p = item({"protocol_type", "protocol_version"})) {
-    const std::int64_t v = table_.get(*p);
+  id_ = static_cast<std::uint8_t>(table_.get(items_.id));
+  if (items_.protocol) {
+    const std::int64_t v = table_.get(*items_.protocol);
     protocol_ = v == 1   ? std::optional(wire::Protocol::V1)
                 : v == 2 ? std::optional(wire::Protocol::V2)
                          : std::nullopt;  // S.BUS, iBUS, RC-PWM, Modbus: not a DYNAMIXEL bus
   } else {
     protocol_ = spec().protocols.front();
   }
-  const std::int64_t index = table_.get("baud_rate");
+  const std::int64_t index = table_.get(items_.baud_rate);
   const auto bps = spec().bps_for_index(index);
   baud_bps_ = bps                           ? *bps
               : is_v1_family(spec().family) ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
                                             : 0;
-  return_delay_ = microseconds(table_.get("return_delay_time") * spec().return_delay_unit_us);
+  return_delay_ = microseconds(table_.get(items_.return_delay_time) * spec().return_delay_unit_us);
 }
 
 std::uint8_t Servo::error_byte_v2(wire::StatusError error) const {
-  const auto hw = item({"hardware_error_status"});
+  const auto& hw = items_.hardware_error_status;
   return wire::status_error_byte(error, hw && table_.get(*hw) != 0);
 }
 
@@ -125,7 +134,7 @@ ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
 }
 
 bool Servo::replies_to(bool is_read) const {
-  const auto srl = item({"status_return_level"});
+  const auto& srl = items_.status_return_level;
   const std::int64_t level = srl ? table_.get(*srl) : kSrlAll;
   return level >= kSrlAll || (is_read && level >= kSrlReads);
 }
@@ -255,7 +264,7 @@ ServoResponse Servo::execute_secondary(const wire::InstructionPacket& packet) {
 }
 
 std::optional<std::uint8_t> Servo::secondary_id() const {
-  const auto item_index = item({"secondary_id"});
+  const auto& item_index = items_.secondary_id;
   if (!item_index) {
     return std::nullopt;
   }
@@ -264,8 +273,9 @@ std::optional<std::uint8_t> Servo::secondary_id() const {
 }
 
 std::optional<sim::SimDuration> Servo::bus_watchdog_period() const {
-  const auto watchdog = item({"bus_watchdog"});
-  if (!watchdog || table_.get("torque_enable") == 0 || table_.get(*watchdog) <= 0) {
+  const auto& watchdog = items_.bus_watchdog;
+  if (!watchdog || !items_.torque_enable || table_.get(*items_.torque_enable) == 0 ||
+      table_.get(*watchdog) <= 0) {
     return std::nullopt;
   }
   return std::chrono::milliseconds(table_.get(*watchdog) * kBusWatchdogUnitMs);

@@ -137,6 +137,19 @@ class Servo {
 
   ControlTable table_;
   MotionModel motion_;
+  /// Items read on every packet, looked up once: a key lookup scans the model's items.
+  struct KeyItems {
+    std::size_t id = 0;
+    std::size_t baud_rate = 0;
+    std::size_t return_delay_time = 0;
+    std::optional<std::size_t> protocol;  // Protocol Type (Protocol Version on MX(2.0))
+    std::optional<std::size_t> hardware_error_status;
+    std::optional<std::size_t> status_return_level;
+    std::optional<std::size_t> secondary_id;
+    std::optional<std::size_t> bus_watchdog;
+    std::optional<std::size_t> torque_enable;
+  };
+  KeyItems items_;
   std::uint8_t id_ = 1;
   std::optional<wire::Protocol> protocol_;
   std::uint32_t baud_bps_ = 0;

@@ -162,6 +162,14 @@ class ControlTest(unittest.TestCase):
         self.assertEqual(status[:2], (2, 0))
         port.close()
 
+    def test_a_scenario_step_runs_on_time_without_any_traffic(self):
+        scenario = os.path.join(self.dir.name, "stop.json")
+        with open(scenario, "w", encoding="utf-8") as f:
+            json.dump({"steps": [{"at_ms": 300, "cmd": "shutdown"}]}, f)
+        daemon = Daemon("--link", self.link, "--control", self.socket, "--scenario", scenario)
+        self.addCleanup(daemon.stop)
+        self.assertEqual(daemon.proc.wait(timeout=10), 0)
+
     def test_a_bad_scenario_file_is_refused_naming_file_pointer_and_reason(self):
         scenario = os.path.join(self.dir.name, "bad.json")
         with open(scenario, "w", encoding="utf-8") as f:
