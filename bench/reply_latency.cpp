@@ -19,8 +19,10 @@
 // (scripts/bench.sh puts it in docs/benchmarks.md); progress goes to stderr.
 //
 // Usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N]
+//                      [--arg ARG]...
 //        reply_latency --pty PATH --baud BPS [--count N] [--warmup N] [--cpu N]
-// The second form measures an emulator already serving xm430-w350 IDs 1 ~ 10 at BPS on PATH.
+// --arg ARG passes ARG on to `dxlemu run` (repeat it for several). The second form measures an
+// emulator already serving xm430-w350 IDs 1 ~ 10 at BPS on PATH.
 // --cpu N pins the bench, and the dxlemu it starts, to CPU N: the reply then wakes the client on
 // the CPU that sent it, which takes the cost of waking another (idle, possibly halted virtual)
 // CPU out of the figures.
@@ -85,6 +87,7 @@ struct Options {
   int count = 2000;
   int warmup = 50;
   int cpu = -1;  // with --cpu N, the bench and the dxlemu it starts run on CPU N only
+  std::vector<std::string> daemon_args;  // --arg ARG: more arguments for `dxlemu run`
 };
 
 // One kind of round trip: the instruction, the replies it gets (one entry per packet on the
@@ -245,7 +248,8 @@ std::vector<Case> cases() {
 }
 
 constexpr const char* kUsage =
-    "usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N]\n"
+    "usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N] "
+    "[--arg ARG]...\n"
     "       reply_latency --pty PATH --baud BPS [--count N] [--warmup N] [--cpu N]";
 
 Options parse(int argc, char** argv) {
@@ -267,6 +271,8 @@ Options parse(int argc, char** argv) {
         o.warmup = std::stoi(v);
       } else if (a == "--cpu") {
         o.cpu = std::stoi(v);
+      } else if (a == "--arg") {
+        o.daemon_args.push_back(v);
       } else {
         throw std::invalid_argument(a);
       }
@@ -300,9 +306,10 @@ int main(int argc, char** argv) {
       std::optional<dxlemu::bench::Daemon> daemon;
       if (!options.dxlemu.empty()) {
         const std::string link = "/tmp/dxlemu-bench-" + std::to_string(getpid());
-        daemon.emplace(options.dxlemu,
-                       std::vector<std::string>{"--servo", kServos, "--baud", std::to_string(bps),
-                                                "--link", link});
+        std::vector<std::string> args = {"--servo",           kServos,  "--baud",
+                                         std::to_string(bps), "--link", link};
+        args.insert(args.end(), options.daemon_args.begin(), options.daemon_args.end());
+        daemon.emplace(options.dxlemu, args);
       }
       const int fd = dxlemu::bench::open_port(daemon ? daemon->pty() : options.pty, bps);
       for (const Case& c : cases()) {

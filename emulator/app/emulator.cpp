@@ -14,6 +14,7 @@
 #include "bus/bus.hpp"
 #include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
+#include "io/pty_handover.hpp"
 #include "io/pty_link.hpp"
 
 namespace dxlemu::app {
@@ -58,6 +59,14 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     const auto start = std::chrono::duration_cast<std::chrono::microseconds>(
         std::chrono::system_clock::now().time_since_epoch());
     pcap_ = std::make_unique<PcapWriter>(pcap_file_, start);
+  }
+  if (options_.timing == TimingMode::Realtime) {
+    handover_ = options_.pty_handover.value_or(io::measure_pty_handover());
+    log(LogLevel::Info,
+        "PTY hand-over (both ways) " +
+            std::to_string(
+                std::chrono::duration_cast<std::chrono::microseconds>(handover_).count()) +
+            " us: the client's bytes count as written that much earlier");
   }
   for (const PortConfig& port_config : config.ports) {
     auto port = std::make_unique<Port>();
@@ -288,10 +297,13 @@ void Emulator::run(std::ostream& out) {
     bus::Bus& bus = *port->bus;
     port->pty->start([this, &bus, index](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
       driver_.catch_up();
+      // The kernel took handover_ to bring the bytes here and will take about as long to take
+      // the reply back: count them as written that much earlier (docs/timing.md).
+      const sim::SimTime arrived = std::max(sim::SimTime{}, scheduler_.now() - handover_);
       if (pcap_) {
         pcap_->client_bytes(index, bytes);  // where a damaged packet's bytes are found
       }
-      bus.receive(bytes, scheduler_.now(), bps);
+      bus.receive(bytes, arrived, bps);
       driver_.rearm();
       save_state_if_changed();
     });

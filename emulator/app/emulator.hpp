@@ -43,6 +43,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> scenario;
   /// Seeds every random choice of fault injection (docs/faults.md).
   std::uint64_t seed = 1;
+  /// Under realtime timing, how much earlier than dxlemu reads them the client's bytes count as
+  /// written (docs/timing.md "PTY hand-over"); nullopt: measured at start.
+  std::optional<sim::SimDuration> pty_handover;
   /// The motion model's tick period (docs/motion.md).
   sim::SimDuration tick = std::chrono::milliseconds(1);
 };
@@ -94,7 +97,8 @@ class Emulator : public control::Target {
   boost::asio::io_context io_;
   sim::Scheduler scheduler_;
   io::RealTimeDriver driver_;
-  faults::Injector injector_;  // outlives the buses (declared before ports_)
+  faults::Injector injector_;     // outlives the buses (declared before ports_)
+  sim::SimDuration handover_{0};  // subtracted from the arrival time of the client's bytes
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
   std::ofstream pcap_file_;

@@ -248,6 +248,11 @@ int main(int argc, char** argv) {
       ->type_name("FILE");
   run->add_option("--scenario", options.scenario,
                   "Run the timeline of faults and conditions in FILE (docs/faults.md)");
+  std::optional<std::int64_t> handover_us;
+  run->add_option("--pty-handover-us", handover_us,
+                  "Realtime timing: the PTY's hand-over delay to take off reply times, in us "
+                  "(default: measured at start; 0: none; docs/timing.md)")
+      ->check(CLI::Range(0, 10000));
   run->add_option("--seed", options.seed,
                   "Seeds the random choices of fault injection (docs/faults.md); default 1");
   int tick_hz = kDefaultTickHz;
@@ -294,6 +299,9 @@ int main(int argc, char** argv) {
       dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(log_level));
       options.timing = kTimingModes.at(timing);
       options.tick = std::chrono::nanoseconds(std::chrono::seconds(1)) / tick_hz;
+      if (handover_us) {
+        options.pty_handover = std::chrono::microseconds(*handover_us);
+      }
       const auto library = load_library(model_dirs);
       dxlemu::app::BusConfig config;
       if (!config_file.empty()) {
