@@ -2,6 +2,8 @@
 
 #include <sys/prctl.h>
 
+#include <boost/asio/post.hpp>
+
 namespace dxlemu::io {
 namespace {
 
@@ -52,6 +54,22 @@ void RealTimeDriver::rearm() {
     const auto expiry = to_steady(*deadline) - kSpinWindow;
     if (armed_ && *armed_ == expiry) {
       return;  // already waiting for this deadline
+    }
+    if (expiry <= std::chrono::steady_clock::now()) {
+      // Inside the spin window already (the next reply of a chain): programming the timer to
+      // fire at once would cost a timerfd_settime for nothing. Other handlers (bytes on other
+      // ports) still run before the spin.
+      disarm();
+      if (!spin_posted_) {
+        spin_posted_ = true;
+        boost::asio::post(timer_.get_executor(), [this] {
+          spin_posted_ = false;
+          spin_to_deadline();
+          run_due();
+          rearm();
+        });
+      }
+      return;
     }
     armed_ = expiry;
     timer_.expires_at(expiry);

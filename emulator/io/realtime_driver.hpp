@@ -67,6 +67,8 @@ class RealTimeDriver {
   boost::asio::steady_timer timer_;
   /// When the pending wait expires; empty when none is pending.
   std::optional<std::chrono::steady_clock::time_point> armed_;
+  /// A spin-and-run handler is posted and has not run yet.
+  bool spin_posted_ = false;
   std::chrono::steady_clock::time_point start_;
 };
 
