@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <array>
+#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -25,7 +27,23 @@ constexpr std::chrono::seconds kStartTimeout{30};
 
 }  // namespace
 
-Daemon::Daemon(const std::string& binary, const std::vector<std::string>& args, std::size_t ports) {
+Daemon::Daemon(const std::string& binary, const std::vector<std::string>& args, std::size_t ports)
+    : Daemon(
+          [&] {
+            std::vector<std::string> all = {binary, "run"};
+            all.insert(all.end(), args.begin(), args.end());
+            return all;
+          }(),
+          ports) {}
+
+Daemon::Daemon(std::vector<std::string> command, std::size_t ports) {
+  if (command.empty()) {
+    throw std::invalid_argument("Daemon: no program to start");
+  }
+  // A bench whose output is piped into `head` would die of SIGPIPE without stopping the daemon
+  // it started; ignored, the write fails instead and the destructor still stops it.
+  std::signal(SIGPIPE, SIG_IGN);
+  const std::string binary = command.front();
   std::array<int, 2> out{};
   if (pipe2(out.data(), O_CLOEXEC) != 0) {
     fail("pipe2");
@@ -33,11 +51,9 @@ Daemon::Daemon(const std::string& binary, const std::vector<std::string>& args, 
   posix_spawn_file_actions_t actions{};
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  std::vector<std::string> all = {binary, "run"};
-  all.insert(all.end(), args.begin(), args.end());
   std::vector<char*> argv;
-  argv.reserve(all.size() + 1);
-  for (std::string& a : all) {
+  argv.reserve(command.size() + 1);
+  for (std::string& a : command) {
     argv.push_back(a.data());
   }
   argv.push_back(nullptr);
@@ -58,7 +74,7 @@ Daemon::Daemon(const std::string& binary, const std::vector<std::string>& args, 
       const auto left = std::chrono::ceil<std::chrono::milliseconds>(give_up - Clock::now());
       if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0 ||
           ::read(stdout_, &c, 1) != 1) {
-        throw std::runtime_error("dxlemu printed no readiness line");
+        throw std::runtime_error(binary + " printed no readiness line");
       }
       if (c == '\n') {
         ready_.push_back(nlohmann::json::parse(line));
@@ -118,6 +134,32 @@ long peak_rss_kib(pid_t pid) {
   while (std::getline(in, line)) {
     if (line.rfind("VmHWM:", 0) == 0) {
       return std::stol(line.substr(6));
+    }
+  }
+  return -1;
+}
+
+std::chrono::nanoseconds run_time(pid_t pid) {
+  // A thread that ended since is no longer listed: fine for daemons with one thread (dxlemu).
+  std::chrono::nanoseconds total{0};
+  for (const auto& task :
+       std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    std::ifstream in(task.path() / "schedstat");
+    long long ns = 0;
+    if (in >> ns) {
+      total += std::chrono::nanoseconds(ns);
+    }
+  }
+  return total;
+}
+
+long proc_status_number(pid_t pid, const std::string& field) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  const std::string prefix = field + ":";
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(prefix, 0) == 0) {
+      return std::stol(line.substr(prefix.size()));
     }
   }
   return -1;

@@ -60,7 +60,9 @@ std::optional<Clock::time_point> read_exactly(int fd, std::span<std::uint8_t> ou
   return Clock::now();
 }
 
-void flush_input(int fd) { ioctl(fd, TCFLSH, TCIFLUSH); }
+void flush_input(int fd) {
+  ioctl(fd, TCFLSH, TCIFLUSH);
+}
 
 void pin_to_cpu(int cpu) {
   cpu_set_t set;
@@ -69,6 +71,27 @@ void pin_to_cpu(int cpu) {
   if (sched_setaffinity(0, sizeof(set), &set) != 0) {
     fail("pinning to CPU " + std::to_string(cpu));
   }
+}
+
+std::vector<Arrival> read_arrivals(int fd, std::span<std::uint8_t> out, Clock::time_point give_up) {
+  std::vector<Arrival> arrivals;
+  std::size_t got = 0;
+  while (got < out.size()) {
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(give_up - Clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) {
+      break;
+    }
+    const ssize_t n = ::read(fd, out.data() + got, out.size() - got);
+    if (n < 0 && errno != EINTR && errno != EAGAIN) {
+      fail("read");
+    }
+    if (n > 0) {
+      got += static_cast<std::size_t>(n);
+      arrivals.push_back({got, Clock::now()});
+    }
+  }
+  return arrivals;
 }
 
 }  // namespace dxlemu::bench

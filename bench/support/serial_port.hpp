@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace dxlemu::bench {
 
@@ -27,5 +28,17 @@ void flush_input(int fd);
 
 /// Restricts this process, and the processes it starts later, to CPU `cpu`.
 void pin_to_cpu(int cpu);
+
+/// One read() that returned data: how many bytes had arrived in all once it returned, and when.
+struct Arrival {
+  std::size_t total = 0;
+  Clock::time_point at;
+};
+
+/// Reads into `out` until it is full or `give_up` passes, waiting in poll(2) as read_exactly
+/// does, and returns every read() that returned data, in order: the last one's `total` is how
+/// many bytes arrived, and the times show when each part of a long answer (a chain of replies)
+/// came in.
+std::vector<Arrival> read_arrivals(int fd, std::span<std::uint8_t> out, Clock::time_point give_up);
 
 }  // namespace dxlemu::bench

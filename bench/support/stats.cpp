@@ -19,4 +19,10 @@ std::string us(std::chrono::nanoseconds d) {
   return text.data();
 }
 
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  return values.size() % 2 != 0 ? values[mid] : (values[mid - 1] + values[mid]) / 2;
+}
+
 }  // namespace dxlemu::bench

@@ -13,4 +13,7 @@ std::chrono::nanoseconds percentile(const std::vector<std::chrono::nanoseconds>&
 /// `d` in microseconds with one decimal ("12.3").
 std::string us(std::chrono::nanoseconds d);
 
+/// The median of `values` (not empty): the middle value, or the mean of the two middle ones.
+double median(std::vector<double> values);
+
 }  // namespace dxlemu::bench
