@@ -42,6 +42,7 @@
 #include "support/daemon.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
+#include "support/xm430.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_decoder.hpp"
 #include "wire/instruction_encoder.hpp"
@@ -58,24 +59,16 @@ namespace wire = dxlemu::wire;
 constexpr const char* kServos = "xm430-w350:1-10";
 constexpr std::uint8_t kServoCount = 10;
 constexpr std::uint8_t kGroupSize = 6;  // Sync Read and Fast Sync Read ask IDs 1 ~ 6
-// models/xm430-w350.json "timing": ping_us, read_us and write_us are all 50 (no per-byte cost).
-constexpr microseconds kProcessing{50};
-// Factory Return Delay Time of the XM430-W350: item value 250 × 2 µs (control table address 9).
-constexpr microseconds kReturnDelay{500};
-// Present Position (address 132, 4 bytes) and Profile Velocity (112, 4 bytes; writing 0 there
-// changes nothing while the servo stands still) of the X series control table.
-constexpr std::uint16_t kPresentPosition = 132;
+using dxlemu::bench::kMaxWriteTime;
+using dxlemu::bench::kPresentPosition;
+using dxlemu::bench::kProcessing;
+using dxlemu::bench::kReplyTimeout;
+using dxlemu::bench::kReturnDelay;
+using dxlemu::bench::kSettle;
+// Profile Velocity (112, 4 bytes; writing 0 there changes nothing while the servo stands still),
+// written as the Write case. Present Position and Profile Velocity are both 4 bytes.
 constexpr std::uint16_t kProfileVelocity = 112;
-constexpr std::uint16_t kItemSize = 4;
-
-// How long to wait for a reply before counting it lost, beyond its modelled time.
-constexpr milliseconds kReplyTimeout{100};
-// After a lost or bad reply, let stray bytes arrive before discarding them.
-constexpr milliseconds kSettle{20};
-// A write() of a few dozen bytes to a PTY takes a few µs. When it takes longer, the client was
-// preempted inside it, the moment the bytes reached the emulator is unknown (the reply may even
-// arrive before write() returns), and the round trip is skipped and counted, not measured.
-constexpr microseconds kMaxWriteTime{100};
+constexpr std::uint16_t kItemSize = dxlemu::bench::kPresentPositionSize;
 
 constexpr double kMedian = 0.5;
 constexpr double kP99 = 0.99;
@@ -210,7 +203,7 @@ void print_row(std::uint32_t bps, const Case& c, Result r) {
 std::vector<Case> cases() {
   using wire::Protocol;
   const std::uint8_t one = 1;
-  const std::size_t ping_status = status_size(3);  // model number (2), firmware version
+  const std::size_t ping_status = status_size(dxlemu::bench::kPingParams);
   const std::size_t read_status = status_size(kItemSize);
   std::vector<std::uint8_t> group;
   std::vector<Reply> group_replies;

@@ -59,6 +59,7 @@
 #include "support/daemon.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
+#include "support/xm430.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_decoder.hpp"
 #include "wire/instruction_encoder.hpp"
@@ -83,26 +84,17 @@ constexpr int kShuffleStep = 97;
 constexpr std::size_t kPorts = 32;
 constexpr std::uint8_t kServosPerPort = 6;
 
-// models/xm430-w350.json "timing": ping_us and read_us are 50 (no per-byte cost).
-constexpr microseconds kProcessing{50};
-// Factory Return Delay Time of the XM430-W350: item value 250 × 2 µs (control table address 9).
-constexpr microseconds kReturnDelay{500};
-// Present Position (address 132, 4 bytes) of the X series control table.
-constexpr std::uint16_t kPresentPosition = 132;
-constexpr std::uint16_t kItemSize = 4;
-// A Ping status carries the model number (2 bytes) and the firmware version.
-constexpr std::size_t kPingParams = 3;
-
-// How long to wait for a reply (or the rest of a chain) beyond its modelled time.
-constexpr milliseconds kReplyTimeout{100};
+using dxlemu::bench::kMaxWriteTime;
+using dxlemu::bench::kPingParams;
+using dxlemu::bench::kPresentPosition;
+using dxlemu::bench::kProcessing;
+using dxlemu::bench::kReplyTimeout;
+using dxlemu::bench::kReturnDelay;
+constexpr std::uint16_t kItemSize = dxlemu::bench::kPresentPositionSize;
 // After each chain, how long to listen for bytes nobody asked for (duplicates, stray replies).
 constexpr milliseconds kStrayWindow{5};
 // After the serving phase, how long the replies still in flight get before they are discarded.
 constexpr milliseconds kDrain{100};
-// A write() of a few hundred bytes to a PTY takes a few µs. When it takes longer, the bench was
-// preempted inside it and the moment the bytes reached the emulator is unknown (replies then seem
-// early): the chain is still checked, but its timing is skipped (as in reply_latency).
-constexpr microseconds kMaxWriteTime{100};
 
 constexpr double kMedian = 0.5;
 constexpr double kP99 = 0.99;

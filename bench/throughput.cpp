@@ -71,10 +71,8 @@ constexpr std::uint32_t kBaud = 57'600;
 // Round trips before the measured seconds: the daemon's first replies (page faults, caches, the
 // control client connecting) are not what a long-running client sees.
 constexpr milliseconds kWarmup{500};
-// A status later than this counts as lost (a fast reply takes tens of µs).
-constexpr milliseconds kReplyTimeout{100};
-// After a bad or lost reply, let stray bytes arrive before discarding them.
-constexpr milliseconds kSettle{20};
+using dxlemu::bench::kReplyTimeout;  // a fast reply takes tens of µs
+using dxlemu::bench::kSettle;
 // How long a control client waits for a reply, and how often the subscriber looks at the
 // stop flag while no event comes.
 constexpr milliseconds kControlTimeout{5000};

@@ -3,11 +3,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "support/xm430.hpp"
+
 namespace dxlemu::bench {
 
-/// The X series' Present Position: control table address 132, 4 bytes (e-Manual XM430-W350).
-constexpr std::uint16_t kPresentPosition = 132;
-constexpr std::uint16_t kPresentPositionSize = 4;
 /// Where an XM430-W350 at factory settings stands when dxlemu starts it (its Present Position).
 constexpr std::int32_t kStartPosition = 2048;
 
