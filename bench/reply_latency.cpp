@@ -40,6 +40,7 @@
 
 #include "bus/line_timing.hpp"
 #include "support/daemon.hpp"
+#include "support/flags.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
 #include "support/xm430.hpp"
@@ -247,34 +248,20 @@ constexpr const char* kUsage =
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  try {
-    for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
-      const std::string& a = args[i];
-      const std::string& v = args[i + 1];
-      if (a == "--dxlemu") {
-        o.dxlemu = v;
-      } else if (a == "--pty") {
-        o.pty = v;
-      } else if (a == "--baud") {
-        o.bauds.push_back(static_cast<std::uint32_t>(std::stoul(v)));
-      } else if (a == "--count") {
-        o.count = std::stoi(v);
-      } else if (a == "--warmup") {
-        o.warmup = std::stoi(v);
-      } else if (a == "--cpu") {
-        o.cpu = std::stoi(v);
-      } else if (a == "--arg") {
-        o.daemon_args.push_back(v);
-      } else {
-        throw std::invalid_argument(a);
-      }
-    }
-  } catch (const std::logic_error&) {  // an unknown option, or stoi/stoul refusing a number
-    throw std::invalid_argument(kUsage);
-  }
-  if (args.size() % 2 != 0 || o.dxlemu.empty() == o.pty.empty() ||
-      (!o.pty.empty() && o.bauds.size() != 1) || o.count <= 0 || o.warmup < 0) {
+  dxlemu::bench::parse_flags(argc, argv,
+                             {{"--dxlemu", [&](const std::string& v) { o.dxlemu = v; }},
+                              {"--pty", [&](const std::string& v) { o.pty = v; }},
+                              {"--baud",
+                               [&](const std::string& v) {
+                                 o.bauds.push_back(static_cast<std::uint32_t>(std::stoul(v)));
+                               }},
+                              {"--count", [&](const std::string& v) { o.count = std::stoi(v); }},
+                              {"--warmup", [&](const std::string& v) { o.warmup = std::stoi(v); }},
+                              {"--cpu", [&](const std::string& v) { o.cpu = std::stoi(v); }},
+                              {"--arg", [&](const std::string& v) { o.daemon_args.push_back(v); }}},
+                             kUsage);
+  if (o.dxlemu.empty() == o.pty.empty() || (!o.pty.empty() && o.bauds.size() != 1) ||
+      o.count <= 0 || o.warmup < 0) {
     throw std::invalid_argument(kUsage);
   }
   if (o.bauds.empty()) {

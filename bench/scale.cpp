@@ -57,6 +57,7 @@
 
 #include "bus/line_timing.hpp"
 #include "support/daemon.hpp"
+#include "support/flags.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
 #include "support/xm430.hpp"
@@ -686,27 +687,14 @@ constexpr const char* kUsage = "usage: scale --dxlemu PATH [--seconds D] [--coun
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  try {
-    for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
-      const std::string& a = args[i];
-      const std::string& v = args[i + 1];
-      if (a == "--dxlemu") {
-        o.dxlemu = v;
-      } else if (a == "--seconds") {
-        o.seconds = std::stod(v);
-      } else if (a == "--count") {
-        o.count = std::stoi(v);
-      } else if (a == "--cpu") {
-        o.cpu = std::stoi(v);
-      } else {
-        throw std::invalid_argument(a);
-      }
-    }
-  } catch (const std::logic_error&) {  // an unknown option, or stod/stoi refusing a number
-    throw std::invalid_argument(kUsage);
-  }
-  if (args.size() % 2 != 0 || o.dxlemu.empty() || o.seconds <= 0 || o.count <= 0) {
+  dxlemu::bench::parse_flags(
+      argc, argv,
+      {{"--dxlemu", [&](const std::string& v) { o.dxlemu = v; }},
+       {"--seconds", [&](const std::string& v) { o.seconds = std::stod(v); }},
+       {"--count", [&](const std::string& v) { o.count = std::stoi(v); }},
+       {"--cpu", [&](const std::string& v) { o.cpu = std::stoi(v); }}},
+      kUsage);
+  if (o.dxlemu.empty() || o.seconds <= 0 || o.count <= 0) {
     throw std::invalid_argument(kUsage);
   }
   return o;

@@ -54,6 +54,7 @@
 
 #include "support/control_socket.hpp"
 #include "support/daemon.hpp"
+#include "support/flags.hpp"
 #include "support/read_position.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
@@ -440,32 +441,15 @@ constexpr const char* kUsage =
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::vector<std::string> args(argv + 1, argv + argc);
-  try {
-    for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
-      const std::string& a = args[i];
-      const std::string& v = args[i + 1];
-      if (a == "--dxlemu") {
-        o.dxlemu = v;
-      } else if (a == "--echo") {
-        o.echo = v;
-      } else if (a == "--seconds") {
-        o.seconds = std::stod(v);
-      } else if (a == "--runs") {
-        o.runs = std::stoi(v);
-      } else if (a == "--cpu") {
-        o.cpu = std::stoi(v);
-      } else if (a == "--target") {
-        o.only.push_back(v);
-      } else {
-        throw std::invalid_argument(a);
-      }
-    }
-  } catch (const std::logic_error&) {  // an unknown option, or stoi/stod refusing a number
-    throw std::invalid_argument(kUsage);
-  }
-  if (args.size() % 2 != 0 || o.dxlemu.empty() || o.echo.empty() || !(o.seconds > 0) ||
-      o.runs <= 0) {
+  bench::parse_flags(argc, argv,
+                     {{"--dxlemu", [&](const std::string& v) { o.dxlemu = v; }},
+                      {"--echo", [&](const std::string& v) { o.echo = v; }},
+                      {"--seconds", [&](const std::string& v) { o.seconds = std::stod(v); }},
+                      {"--runs", [&](const std::string& v) { o.runs = std::stoi(v); }},
+                      {"--cpu", [&](const std::string& v) { o.cpu = std::stoi(v); }},
+                      {"--target", [&](const std::string& v) { o.only.push_back(v); }}},
+                     kUsage);
+  if (o.dxlemu.empty() || o.echo.empty() || !(o.seconds > 0) || o.runs <= 0) {
     throw std::invalid_argument(kUsage);
   }
   return o;
