@@ -4,7 +4,6 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 #include <cerrno>
 #include <cstdlib>
@@ -88,20 +87,65 @@ void PtyLink::start(OnBytes on_bytes) {
 }
 
 void PtyLink::read_more() {
-  master_.async_read_some(boost::asio::buffer(read_buffer_),
-                          [this](const boost::system::error_code& ec, std::size_t n) {
-                            if (ec) {
-                              return;  // cancelled at shutdown
-                            }
-                            on_bytes_(std::span(read_buffer_.data(), n), tty_baud(slave_fd_));
-                            read_more();
-                          });
+  // Wait for readiness and then read once, rather than async_read_some: that one tries a read
+  // first, which on a serial line that just delivered a packet almost always fails with EAGAIN,
+  // a system call per round trip for nothing (docs/benchmarks.md "Issue 8").
+  master_.async_wait(boost::asio::posix::descriptor_base::wait_read,
+                     [this](const boost::system::error_code& ec) {
+                       if (!ec) {
+                         read_ready();
+                       }  // else cancelled at shutdown
+                     });
+}
+
+void PtyLink::read_ready() {
+  for (;;) {
+    const ssize_t n = ::read(master_.native_handle(), read_buffer_.data(), read_buffer_.size());
+    if (n < 0 && errno == EINTR) {
+      continue;
+    }
+    if (n < 0 && errno == EAGAIN) {
+      break;  // a readiness report for bytes an earlier read already took
+    }
+    if (n <= 0) {
+      return;  // the master fails only when the PTY is gone: stop reading, as at shutdown
+    }
+    const auto got = static_cast<std::size_t>(n);
+    on_bytes_(std::span(read_buffer_.data(), got), tty_baud(slave_fd_));
+    // Readiness is edge-triggered: only a read that left bytes behind (a full buffer) must be
+    // followed by another before waiting again. Bytes that arrive later report readiness anew,
+    // and the wait below is registered before the event loop next looks (one thread).
+    if (got < read_buffer_.size()) {
+      break;
+    }
+  }
+  read_more();
 }
 
 void PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {
+  if (write_queue_.empty()) {
+    // The usual case: the PTY has room, and the reply goes out now without a queue entry.
+    const std::size_t sent = write_now(bytes);
+    if (sent == bytes.size()) {
+      return;
+    }
+    bytes = bytes.subspan(sent);
+  }
   write_queue_.emplace_back(bytes.begin(), bytes.end());
   if (write_queue_.size() == 1) {
     write_next();
+  }
+}
+
+std::size_t PtyLink::write_now(std::span<const std::uint8_t> bytes) {
+  for (;;) {
+    const ssize_t n = ::write(master_.native_handle(), bytes.data(), bytes.size());
+    if (n >= 0) {
+      return static_cast<std::size_t>(n);
+    }
+    if (errno != EINTR) {
+      return 0;  // EAGAIN: the PTY is full, the queue waits for room
+    }
   }
 }
 
