@@ -109,7 +109,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
   }
   restore(state);
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
-  driver_.set_after_events([this] { save_state_if_changed(); });
+  driver_.set_after_events([this] { finish_handler(); });
   api_ = std::make_unique<control::Api>(*this);
   control_ = std::make_unique<io::ControlServer>(
       io_, options_.control.value_or(default_control_path()),
@@ -119,7 +119,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         std::string reply = api_->handle(line, session.id());
         current_session_ = nullptr;
         driver_.rearm();
-        save_state_if_changed();  // a set of an EEPROM item is kept like a bus write
+        finish_handler();  // a set of an EEPROM item is kept like a bus write
         return reply;
       },
       [](std::size_t limit) {
@@ -143,20 +143,19 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
 
 Emulator::~Emulator() = default;
 
-void Emulator::trace(const std::string& port, const nlohmann::ordered_json& record) {
+void Emulator::trace(const std::string& port, const std::string& line) {
   if (trace_.is_open()) {
-    trace_ << record.dump() << '\n' << std::flush;
+    trace_ << line << '\n';  // flushed when the handler is done (finish_handler)
   }
   if (subscribers_.empty()) {
     return;
   }
-  nlohmann::ordered_json event = {{"event", "trace"}};
-  event.update(record);
-  const std::string line = event.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // The same members after "event": a record is never empty, so `line` is "{...,...}".
+  const std::string event = R"({"event":"trace",)" + line.substr(1);
   for (auto& [client, subscriber] : subscribers_) {
     if (subscriber.ports.empty() || std::find(subscriber.ports.begin(), subscriber.ports.end(),
                                               port) != subscriber.ports.end()) {
-      subscriber.session->send(line);
+      subscriber.session->send(event);
     }
   }
 }
@@ -258,6 +257,15 @@ void Emulator::restore(const BusState& state) {
   save_state_if_changed();
 }
 
+void Emulator::finish_handler() {
+  // Once per handler rather than per line: a round trip writes two trace lines, and a reader
+  // (tail -f) still sees each packet as soon as the daemon is done with it.
+  if (trace_.is_open()) {
+    trace_.flush();
+  }
+  save_state_if_changed();
+}
+
 void Emulator::save_state_if_changed() {
   if (!options_.state) {
     return;
@@ -305,7 +313,7 @@ void Emulator::run(std::ostream& out) {
       }
       bus.receive(bytes, arrived, bps);
       driver_.rearm();
-      save_state_if_changed();
+      finish_handler();
     });
     nlohmann::ordered_json servos = nlohmann::ordered_json::array();
     for (const auto& servo : bus.servos()) {  // the IDs in force: a state file may change them
@@ -331,7 +339,7 @@ void Emulator::run(std::ostream& out) {
     io_.restart();
     io_.run_for(kShutdownFlush);
   }
-  save_state_if_changed();
+  finish_handler();
   for (const auto& port : ports_) {
     const bus::BusStats& s = port->bus->stats();
     log(LogLevel::Info, port->config.name + ": " + std::to_string(s.frames) + " packets, " +

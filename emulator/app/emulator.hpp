@@ -88,8 +88,11 @@ class Emulator : public control::Target {
  private:
   struct Port;
   void restore(const BusState& state);
-  /// Writes one trace record of `port` to the trace file and to the subscribers of that port.
-  void trace(const std::string& port, const nlohmann::ordered_json& record);
+  /// Writes one trace record of `port` (a JSON object on one line) to the trace file and to the
+  /// subscribers of that port.
+  void trace(const std::string& port, const std::string& line);
+  /// What every I/O handler does last: flushes the trace file and saves the state if it changed.
+  void finish_handler();
   /// Saves the state file if any servo's EEPROM changed since the last save.
   void save_state_if_changed();
 

@@ -1,5 +1,6 @@
 #include "app/trace_record.hpp"
 
+#include "app/json_line.hpp"
 #include "wire/describe.hpp"
 #include "wire/framer.hpp"
 #include "wire/hex.hpp"
@@ -8,16 +9,16 @@
 namespace dxlemu::app {
 namespace {
 
-using nlohmann::ordered_json;
-
 constexpr double kNsPerSecond = 1e9;
 
-ordered_json record(const std::string& port, sim::SimTime at, const char* direction,
-                    wire::Protocol protocol) {
-  return {{"t", static_cast<double>(sim::ns_since_start(at)) / kNsPerSecond},
-          {"port", port},
-          {"dir", direction},
-          {"protocol", static_cast<int>(protocol)}};
+JsonLine record(const std::string& port, sim::SimTime at, const char* direction,
+                wire::Protocol protocol) {
+  JsonLine out;
+  out.real("t", static_cast<double>(sim::ns_since_start(at)) / kNsPerSecond)
+      .text("port", port)
+      .text("dir", direction)
+      .integer("protocol", static_cast<int>(protocol));
+  return out;
 }
 
 const char* failure_name(wire::FramingErrorKind kind) {
@@ -51,33 +52,32 @@ std::string status_text(const wire::Frame& frame) {
 
 }  // namespace
 
-ordered_json heard_record(const std::string& port, const wire::FramerEvent& event) {
+std::string heard_record(const std::string& port, const wire::FramerEvent& event) {
   if (const auto* failure = std::get_if<wire::FramingError>(&event)) {
-    ordered_json out = record(port, failure->at, "in", failure->protocol);
-    out["problem"] = failure_name(failure->kind);
-    out["bytes"] = failure->bytes;
+    JsonLine out = record(port, failure->at, "in", failure->protocol);
+    out.text("problem", failure_name(failure->kind))
+        .integer("bytes", static_cast<std::int64_t>(failure->bytes));
     if (failure->id) {
-      out["id"] = *failure->id;
+      out.integer("id", *failure->id);
     }
-    return out;
+    return out.finish();
   }
   const auto& frame = std::get<wire::Frame>(event);
-  ordered_json out = record(port, frame.last_byte_at, "in", frame.protocol);
-  out["id"] = frame.id;
-  out["hex"] = wire::to_hex(frame.raw);
+  JsonLine out = record(port, frame.last_byte_at, "in", frame.protocol);
+  out.integer("id", frame.id).text("hex", wire::to_hex(frame.raw));
   const auto decoded = wire::decode_instruction(frame);
   if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
-    out["problem"] = error->reason;
+    out.text("problem", error->reason);
   } else {
-    out["packet"] = wire::describe(std::get<wire::InstructionPacket>(decoded));
+    out.text("packet", wire::describe(std::get<wire::InstructionPacket>(decoded)));
   }
-  return out;
+  return out.finish();
 }
 
-ordered_json sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
-                         sim::SimTime at, wire::Protocol protocol) {
-  ordered_json out = record(port, at, "out", protocol);
-  out["hex"] = wire::to_hex(bytes);
+std::string sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
+                        sim::SimTime at, wire::Protocol protocol) {
+  JsonLine out = record(port, at, "out", protocol);
+  out.text("hex", wire::to_hex(bytes));
   // One delivery holds one packet, except where replies collided or a Fast reply was cut short:
   // say what the client would make of the bytes.
   wire::Framer framer(protocol);
@@ -90,11 +90,11 @@ ordered_json sent_record(const std::string& port, std::span<const std::uint8_t> 
     }
   }
   if (text.empty()) {
-    out["problem"] = "not a complete packet (colliding or cut-short replies)";
+    out.text("problem", "not a complete packet (colliding or cut-short replies)");
   } else {
-    out["packet"] = text;
+    out.text("packet", text);
   }
-  return out;
+  return out.finish();
 }
 
 }  // namespace dxlemu::app

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 
@@ -10,13 +9,13 @@
 
 namespace dxlemu::app {
 
-/// One trace line (docs/trace.md) for what the framers of `port` heard from the client: a packet,
-/// decoded, or a framing failure.
-nlohmann::ordered_json heard_record(const std::string& port, const wire::FramerEvent& event);
+/// One trace line (docs/trace.md), a JSON object without the line end, for what the framers of
+/// `port` heard from the client: a packet, decoded, or a framing failure.
+std::string heard_record(const std::string& port, const wire::FramerEvent& event);
 
-/// One trace line for `bytes` that `port` delivered to the client at `at`, decoded as status
-/// packets of `protocol` (several packets, a Fast reply, or colliding replies).
-nlohmann::ordered_json sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
-                                   sim::SimTime at, wire::Protocol protocol);
+/// One trace line (a JSON object) for `bytes` that `port` delivered to the client at `at`, decoded
+/// as status packets of `protocol` (several packets, a Fast reply, or colliding replies).
+std::string sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
+                        sim::SimTime at, wire::Protocol protocol);
 
 }  // namespace dxlemu::app
