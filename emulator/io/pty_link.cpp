@@ -87,39 +87,17 @@ void PtyLink::start(OnBytes on_bytes) {
 }
 
 void PtyLink::read_more() {
-  // Wait for readiness and then read once, rather than async_read_some: that one tries a read
-  // first, which on a serial line that just delivered a packet almost always fails with EAGAIN,
-  // a system call per round trip for nothing (docs/benchmarks.md "Issue 8").
-  master_.async_wait(boost::asio::posix::descriptor_base::wait_read,
-                     [this](const boost::system::error_code& ec) {
-                       if (!ec) {
-                         read_ready();
-                       }  // else cancelled at shutdown
-                     });
-}
-
-void PtyLink::read_ready() {
-  for (;;) {
-    const ssize_t n = ::read(master_.native_handle(), read_buffer_.data(), read_buffer_.size());
-    if (n < 0 && errno == EINTR) {
-      continue;
-    }
-    if (n < 0 && errno == EAGAIN) {
-      break;  // a readiness report for bytes an earlier read already took
-    }
-    if (n <= 0) {
-      return;  // the master fails only when the PTY is gone: stop reading, as at shutdown
-    }
-    const auto got = static_cast<std::size_t>(n);
-    on_bytes_(std::span(read_buffer_.data(), got), tty_baud(slave_fd_));
-    // Readiness is edge-triggered: only a read that left bytes behind (a full buffer) must be
-    // followed by another before waiting again. Bytes that arrive later report readiness anew,
-    // and the wait below is registered before the event loop next looks (one thread).
-    if (got < read_buffer_.size()) {
-      break;
-    }
-  }
-  read_more();
+  // Asio tries a read first, which right after a round trip finds nothing (EAGAIN). Waiting for
+  // readiness instead (async_wait, then one read) was measured and costs as much: Asio then
+  // re-registers the descriptor with epoll_ctl on every wait (docs/benchmarks.md "Issue 8").
+  master_.async_read_some(boost::asio::buffer(read_buffer_),
+                          [this](const boost::system::error_code& ec, std::size_t n) {
+                            if (ec) {
+                              return;  // cancelled at shutdown
+                            }
+                            on_bytes_(std::span(read_buffer_.data(), n), tty_baud(slave_fd_));
+                            read_more();
+                          });
 }
 
 void PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {

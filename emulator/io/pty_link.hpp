@@ -47,10 +47,8 @@ class PtyLink : public bus::ByteLink {
   void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
 
  private:
-  /// Waits for the client's bytes.
+  /// Reads the client's bytes and hands them on, again and again.
   void read_more();
-  /// Reads what the client wrote and hands it on, then waits again.
-  void read_ready();
   /// Writes as much of `bytes` as the PTY takes now; returns how many it took.
   std::size_t write_now(std::span<const std::uint8_t> bytes);
   /// Writes the front of the queue when the PTY has room, then the rest in order.
