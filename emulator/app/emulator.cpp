@@ -312,8 +312,12 @@ void Emulator::run(std::ostream& out) {
         pcap_->client_bytes(index, bytes);  // where a damaged packet's bytes are found
       }
       bus.receive(bytes, arrived, bps);
+      // Saved before rearm(), which delivers replies due now (every reply under fast and manual
+      // timing): an EEPROM write is in the state file before its status reaches the client, so
+      // a kill -9 after the acknowledgement cannot lose it.
+      save_state_if_changed();
       driver_.rearm();
-      finish_handler();
+      finish_handler();  // the trace lines of the request and of a reply sent at once
     });
     nlohmann::ordered_json servos = nlohmann::ordered_json::array();
     for (const auto& servo : bus.servos()) {  // the IDs in force: a state file may change them

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -108,7 +109,8 @@ nlohmann::ordered_json load_scenario_file(const std::filesystem::path& path) {
   text << in.rdbuf();
   try {
     return nlohmann::ordered_json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
     throw ScenarioError("", std::string("not valid JSON: ") + e.what());
   }
 }
@@ -120,6 +122,16 @@ ordered_json scenario_load(Target& target, const Args& args) {
   }
   const std::string origin = file ? *args.string("file") : "request";
   try {
+    // A running daemon must not read a FIFO (its only thread would block until someone writes to
+    // it: bus and control API stopped) or a device such as /dev/zero (read without end). At
+    // start, --scenario <(...) may be a pipe: that stays allowed.
+    if (file) {
+      std::error_code ec;
+      const auto status = std::filesystem::status(origin, ec);
+      if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+        throw ScenarioError("", "is not a regular file");
+      }
+    }
     const std::size_t steps = schedule_scenario(
         target, file ? load_scenario_file(origin) : *args.value("scenario"), origin);
     return {{"steps", steps}};

@@ -15,6 +15,10 @@ namespace dxlemu::io {
 namespace {
 
 constexpr std::size_t kReadChunk = 4096;
+// Replies waiting for room in the PTY, at most: beyond it, a client that does not read loses
+// further replies, as a serial adapter's full receive buffer does, instead of the daemon keeping
+// them without limit and handing them over, stale, whenever the client reads again.
+constexpr std::size_t kMaxQueuedBytes = std::size_t{64} * 1024;
 
 [[noreturn]] void fail(const std::string& what) {
   throw std::system_error(errno, std::generic_category(), what);
@@ -107,8 +111,11 @@ void PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) 
     if (sent == bytes.size()) {
       return;
     }
-    bytes = bytes.subspan(sent);
+    bytes = bytes.subspan(sent);  // a packet begun is finished: never a torn reply
+  } else if (queued_bytes_ + bytes.size() > kMaxQueuedBytes) {
+    return;  // nobody reads: dropped
   }
+  queued_bytes_ += bytes.size();
   write_queue_.emplace_back(bytes.begin(), bytes.end());
   if (write_queue_.size() == 1) {
     write_next();
@@ -132,8 +139,10 @@ void PtyLink::write_next() {
                            [this](const boost::system::error_code& ec, std::size_t) {
                              if (ec) {
                                write_queue_.clear();
+                               queued_bytes_ = 0;
                                return;
                              }
+                             queued_bytes_ -= write_queue_.front().size();
                              write_queue_.pop_front();
                              if (!write_queue_.empty()) {
                                write_next();

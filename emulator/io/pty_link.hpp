@@ -43,7 +43,8 @@ class PtyLink : public bus::ByteLink {
   void start(OnBytes on_bytes);
 
   /// Writes `bytes` to the client (queued; never blocks). `at` is not used: the driver calls this
-  /// at the right moment.
+  /// at the right moment. While 64 KiB wait for room in the PTY (the client reads nothing),
+  /// further packets are dropped.
   void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
 
  private:
@@ -61,6 +62,7 @@ class PtyLink : public bus::ByteLink {
   OnBytes on_bytes_;
   std::vector<std::uint8_t> read_buffer_;
   std::deque<std::vector<std::uint8_t>> write_queue_;
+  std::size_t queued_bytes_ = 0;  // in write_queue_
 };
 
 }  // namespace dxlemu::io

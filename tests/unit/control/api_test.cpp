@@ -1,7 +1,10 @@
 // The control API (docs/control-api.md): JSON requests in, JSON replies out, no I/O. Every
 // command's success reply and every kind of malformed request, on real servos and a hand-stepped
 // clock.
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <deque>
 #include <fstream>
 #include <map>
@@ -669,6 +672,27 @@ TEST_CASE("scenario.load reads a file, and a step that fails when it runs is rep
   std::remove(path.c_str());
   CHECK(rig.error(R"({"cmd":"scenario.load","file":"no/such/file.json"})") ==
         "no/such/file.json: cannot be read");
+  // A number too large for a double is nlohmann's out_of_range, not a parse_error.
+  std::ofstream(path) << R"({"steps":[{"at_ms":1e999,"cmd":"list"}]})";
+  CHECK_THAT(rig.error(R"({"cmd":"scenario.load","file":")" + path + R"("})"),
+             Catch::StartsWith(path + ": not valid JSON: "));
+  std::remove(path.c_str());
+}
+
+TEST_CASE("scenario.load refuses a FIFO, a device and a directory without reading them",
+          "[control]") {
+  // Found by scripts/reliability: opening a FIFO blocked the daemon (bus and control API) until
+  // a writer came, and /dev/zero would have been read until memory ran out.
+  Rig rig;
+  const std::string fifo = "scenario_load_test.fifo";
+  std::remove(fifo.c_str());
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK(rig.error(R"({"cmd":"scenario.load","file":")" + fifo + R"("})") ==
+        fifo + ": is not a regular file");
+  std::remove(fifo.c_str());
+  CHECK(rig.error(R"({"cmd":"scenario.load","file":"/dev/zero"})") ==
+        "/dev/zero: is not a regular file");
+  CHECK(rig.error(R"({"cmd":"scenario.load","file":"/"})") == "/: is not a regular file");
 }
 
 TEST_CASE("A bad scenario is refused naming the step and the reason, and nothing runs",
