@@ -34,7 +34,8 @@ class ConfigParser {
     json doc;
     try {
       doc = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+      // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
       fail("", std::string("not valid JSON: ") + e.what());
     }
     object(doc, "", {"ports", "description"});

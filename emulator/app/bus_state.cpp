@@ -84,7 +84,8 @@ BusState state_from_text(const std::string& text, const std::string& origin) {
   ordered_json doc;
   try {
     doc = ordered_json::parse(text);
-  } catch (const ordered_json::parse_error& e) {
+  } catch (const ordered_json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
     throw ConfigError(origin, "", std::string("not valid JSON: ") + e.what());
   }
   auto fail = [&](const std::string& at, const std::string& reason) {

@@ -1,6 +1,7 @@
 #include "bus/bus.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <type_traits>
 
 #include "bus/line_timing.hpp"
@@ -589,6 +590,17 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
         }
       },
       packet.instruction);
+  // A Fast reply announces every listed device's block in one 16-bit LENGTH: a request for more
+  // than that can announce has no reply any device could send, so it goes unanswered.
+  if (fast) {
+    std::size_t length = 1;  // the instruction byte
+    for (const ReadSlot& slot : slots) {
+      length += 4 + std::size_t{slot.length};  // error, ID, data, CRC
+    }
+    if (length > std::numeric_limits<std::uint16_t>::max()) {
+      return;
+    }
+  }
 
   const std::vector<Station*> listening = listeners(packet.protocol, client_bps, end);
   std::vector<Slot> answered;  // one per listed device that answers, in list order

@@ -499,7 +499,8 @@ ordered_json parse(std::string_view line) {
       };
   try {
     return ordered_json::parse(line.begin(), line.end(), limit_depth);
-  } catch (const ordered_json::parse_error& e) {
+  } catch (const ordered_json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
     // what() is "[json.exception.parse_error.101] parse error at ...": keep from "parse error".
     std::string text = e.what();
     if (const auto start = text.find("] "); start != std::string::npos) {

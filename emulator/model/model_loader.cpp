@@ -466,7 +466,8 @@ ModelSpec parse_model(std::string_view json_text, const std::string& origin) {
   json document;
   try {
     document = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
     throw ModelError(origin, "", std::string("not valid JSON: ") + e.what());
   }
   return model_from_json(document, origin);

@@ -42,6 +42,8 @@ constexpr std::int64_t kMaxSecondaryId = 252;
 // Bus Watchdog (includes/control_table_buswatchdog.md): 1 ~ 127 in 20 ms units; -1 after expiry.
 constexpr std::int64_t kBusWatchdogUnitMs = 20;
 constexpr std::int64_t kBusWatchdogError = -1;
+// A 1.0 status's LENGTH is one byte and counts the parameters plus 2 (protocol1.md "Length").
+constexpr std::size_t kV1MaxStatusParams = 0xFF - 2;
 
 bool is_v1_family(Family family) {
   return family == Family::Ax || family == Family::Rx || family == Family::Ex ||
@@ -311,6 +313,13 @@ ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
   ServoResponse r;
   r.reply = true;
   r.processing = microseconds(spec().timing.read_us);
+  // More data than a 1.0 status can carry (an X in 1.0 mode has a table long enough to read it):
+  // no status could answer with it, so it is refused as "out of the range for use" (protocol1.md
+  // "Range Error"), like a read past the table.
+  if (protocol_ == wire::Protocol::V1 && length > kV1MaxStatusParams) {
+    r.error = error_byte(TableError::DataRange);
+    return r;
+  }
   const TableResult result = table_.bus_read(address, length, r.params);
   r.error = error_byte(result.error);
   return r;

@@ -5,6 +5,7 @@
 // through the encoders. Broken invariants abort, so libFuzzer saves the input.
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -16,8 +17,8 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "repair_checks.hpp"
 #include "sim/sim_time.hpp"
-#include "wire/checksum.hpp"
 #include "wire/crc16.hpp"
 #include "wire/describe.hpp"
 #include "wire/frame.hpp"
@@ -82,42 +83,6 @@ std::size_t prefix_bytes() {
 bool is_fast_reply_frame(const Frame& frame) {
   return frame.protocol == Protocol::V2 && frame.id == wire::kBroadcastId &&
          frame.instruction == wire::to_byte(wire::InstructionCode::Status);
-}
-
-// Rewrites the checksum (1.0) or CRC (2.0) of every complete packet in `stream`, walking it as a
-// receiver would: a header with a plausible LENGTH that fits is a packet, anything else is
-// stepped over byte by byte.
-void repair_checks(std::vector<std::uint8_t>& stream) {
-  const wire::FrameFormat& f = format();
-  const std::size_t h = f.header.size();
-  std::size_t i = 0;
-  while (i + prefix_bytes() <= stream.size()) {
-    const auto at = stream.begin() + static_cast<std::ptrdiff_t>(i);
-    if (!std::equal(f.header.begin(), f.header.end(), at)) {
-      ++i;
-      continue;
-    }
-    std::size_t length = stream[i + h + 1];
-    if (f.length_field_bytes == 2) {
-      length |= static_cast<std::size_t>(stream[i + h + 2]) << 8;
-    }
-    const std::size_t total = prefix_bytes() + length;
-    if (length < f.min_length || length > f.max_length || i + total > stream.size()) {
-      ++i;
-      continue;
-    }
-    const std::span<std::uint8_t> packet(stream.data() + i, total);
-    if (kProtocol == Protocol::V1) {
-      // The checksum covers ID .. last parameter (protocol1.md "Checksum").
-      packet[total - 1] = wire::v1_checksum(packet.subspan(h, total - h - 1));
-    } else {
-      // The CRC covers header .. last parameter and is sent low byte first.
-      const std::uint16_t crc = wire::crc16(packet.first(total - kCrcBytes));
-      packet[total - 2] = static_cast<std::uint8_t>(crc & 0xFFU);
-      packet[total - 1] = static_cast<std::uint8_t>(crc >> 8);
-    }
-    i += total;
-  }
 }
 
 // Frames `bytes` with a fresh framer; they must be exactly one packet and nothing else.
@@ -314,7 +279,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const FuzzInput input = parse_fuzz_input(std::span(data, size));
   std::vector<std::uint8_t> stream(input.stream.begin(), input.stream.end());
   if (input.repair_checks) {
-    repair_checks(stream);
+    constexpr std::array kProtocols = {kProtocol};
+    repair_checks(stream, kProtocols);
   }
 
   dxlemu::wire::Framer framer(kProtocol);

@@ -1,12 +1,18 @@
 # Runs one fuzz target for a fixed number of runs from a fresh work directory; fails on any crash,
 # sanitizer report or broken invariant (libFuzzer then exits non-zero and leaves the input in
-# WORK_DIR/artifacts). Called by ctest with -DFUZZER, -DSEED_CORPUS, -DWORK_DIR and -DRUNS.
+# WORK_DIR/artifacts). Called by ctest with -DFUZZER, -DSEED_CORPUS, -DWORK_DIR and -DRUNS, and
+# optionally -DMAX_LEN (default 4096).
 
 foreach(var FUZZER SEED_CORPUS WORK_DIR RUNS)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "run_smoke.cmake needs -D${var}=...")
   endif()
 endforeach()
+
+if(NOT DEFINED MAX_LEN)
+  # The largest packet the 2.0 framer accepts.
+  set(MAX_LEN 4096)
+endif()
 
 file(GLOB seeds ${SEED_CORPUS}/*)
 if(NOT seeds)
@@ -17,9 +23,9 @@ endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR}/corpus ${WORK_DIR}/artifacts)
 
-# -seed=1 makes the run repeatable; -max_len matches the largest packet the 2.0 framer accepts.
+# -seed=1 makes the run repeatable.
 execute_process(
-  COMMAND ${FUZZER} -runs=${RUNS} -seed=1 -max_len=4096 -print_final_stats=1
+  COMMAND ${FUZZER} -runs=${RUNS} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1
           -artifact_prefix=${WORK_DIR}/artifacts/ ${WORK_DIR}/corpus ${SEED_CORPUS}
   WORKING_DIRECTORY ${WORK_DIR}
   RESULT_VARIABLE result)

@@ -80,6 +80,9 @@ TEST_CASE("A state item the model cannot take is refused before anything is rest
 
 TEST_CASE("A broken state file is refused naming the pointer and the reason", "[app][state]") {
   CHECK_THAT(refusal("{\"format\""), Catch::StartsWith("state.json: /: not valid JSON"));
+  // A number too large for a double is nlohmann's out_of_range, not a parse_error.
+  CHECK_THAT(refusal(R"({"format": "dxlemu-state", "version": 1e999, "ports": {}})"),
+             Catch::StartsWith("state.json: /: not valid JSON"));
   CHECK(refusal(R"({"format": "x", "version": 1, "ports": {}})") ==
         "state.json: /format: must be \"dxlemu-state\" (is this a dxlemu state file?)");
   CHECK(refusal(R"({"format": "dxlemu-state", "version": 2, "ports": {}})") ==

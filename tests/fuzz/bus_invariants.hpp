@@ -1,0 +1,63 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <set>
+#include <span>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/loopback_link.hpp"
+#include "model/servo.hpp"
+#include "sim/sim_time.hpp"
+#include "wire/frame.hpp"
+#include "wire/protocol.hpp"
+
+// What fuzz_bus checks about a bus without fault injection, kept apart from the input handling.
+namespace dxlemu::fuzz {
+
+/// True when `value` is one the model allows for item `item` of `servo` (its min/max and values),
+/// or one of the documented values the device itself writes outside that range.
+bool item_value_allowed(const model::Servo& servo, std::size_t item, std::int64_t value);
+
+/// Watches a bus (as its LineObserver) and aborts on the first delivery to the client that
+/// docs/bus.md does not allow. Allowed: one well-formed status packet of a protocol some servo
+/// spoke, from an ID some servo had, with a valid error byte; or the Fast Sync/Bulk Read reply to
+/// a request heard, whole or cut short after a block, every block in request order with its
+/// running CRC; or, only while the bus counts an ID conflict not yet accounted for, colliding
+/// replies (the AND of several packets, which keeps the header).
+class ReplyChecker {
+ public:
+  /// Installs itself as `bus`'s observer; both must outlive it.
+  ReplyChecker(bus::Bus& bus, const bus::LoopbackLink& link);
+
+  /// Checks that every delivery the link recorded went through the checks.
+  void finish() const;
+
+ private:
+  struct Block {
+    std::uint8_t id;
+    std::uint16_t length;
+  };
+  using Layout = std::vector<Block>;
+
+  void heard(const wire::FramerEvent& event);
+  void sent(std::span<const std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol);
+  bool is_status(std::span<const std::uint8_t> bytes, wire::Protocol protocol) const;
+  bool is_fast_reply(std::span<const std::uint8_t> bytes);
+  void remember_servos();
+
+  const bus::Bus& bus_;
+  const bus::LoopbackLink& link_;
+  std::size_t checked_ = 0;
+  sim::SimTime last_delivery_{};
+  // Replies still due: everything since the last instruction that cancelled them.
+  std::uint64_t collisions_seen_ = 0;
+  std::uint64_t conflicts_base_ = 0;  // ID conflicts counted before the replies still due
+  std::uint64_t excused_ = 0;         // colliding deliveries accepted since then
+  std::set<std::uint8_t> ids_;
+  std::set<wire::Protocol> protocols_;
+  std::vector<Layout> fast_requests_;
+};
+
+}  // namespace dxlemu::fuzz
