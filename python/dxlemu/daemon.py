@@ -4,12 +4,21 @@
 per port on stdout, printed once every port is open). `Emulator` builds those arguments for a
 bus in a temporary directory of its own (PTY link, control socket) and connects a control
 client: the usual way to get an emulator for a test or a script.
+
+Three environment variables serve the memory checks (scripts/test.sh's ASan + UBSan run,
+scripts/memcheck.sh): $DXLEMU_WRAPPER, a command the daemon is run under, split as a shell
+would (`valgrind --error-exitcode=99 --log-file=...`); $DXLEMU_TIMEOUT_SCALE, what the start
+and stop timeouts are multiplied by for a daemon slowed down that way; and $DXLEMU_CHECK_EXIT=1,
+with which `DaemonProcess.stop` raises DaemonError unless the daemon exited with status 0, so
+that a sanitizer's or valgrind's report at exit (which changes the exit status) fails the test
+that started the daemon even when everything it checked passed.
 """
 from __future__ import annotations
 
 import json
 import os
 import select
+import shlex
 import shutil
 import signal
 import subprocess
@@ -51,6 +60,23 @@ def find_binary(binary: str | os.PathLike | None = None) -> str:
                       f"the checkout ({_REPO_BINARY})")
 
 
+def wrapper_command() -> list[str]:
+    """$DXLEMU_WRAPPER split as a shell would: the command the daemon runs under (empty when
+    unset)."""
+    return shlex.split(os.environ.get("DXLEMU_WRAPPER", ""))
+
+
+def timeout_scale() -> float:
+    """$DXLEMU_TIMEOUT_SCALE (1 when unset): the factor of the daemon's start and stop
+    timeouts."""
+    return float(os.environ.get("DXLEMU_TIMEOUT_SCALE") or 1)
+
+
+def _checks_exit() -> bool:
+    """$DXLEMU_CHECK_EXIT=1: a daemon that did not exit with status 0 fails its `stop`."""
+    return os.environ.get("DXLEMU_CHECK_EXIT", "") not in ("", "0")
+
+
 class _Drain(threading.Thread):
     """Reads a pipe to its end in the background, so the daemon never blocks writing to it."""
 
@@ -79,20 +105,23 @@ class DaemonProcess:
     lines as dicts. With `drain_stderr` (the default) stderr is collected in the background
     (`stderr()`); without it the caller reads `proc.stderr` itself, and closes it. Raises
     DaemonError, with the daemon's stderr, when it exits or stays silent for `timeout` seconds
-    before it is ready."""
+    before it is ready. `args` is the whole command: $DXLEMU_WRAPPER's words, if any, then
+    the binary, `run` and ARGS."""
 
     def __init__(self, args: Sequence[str], *, binary: str | os.PathLike | None = None,
                  ports: int = 1, timeout: float = 10.0, drain_stderr: bool = True):
         self.binary = find_binary(binary)
-        self.args = [self.binary, "run", *map(str, args)]
+        self.args = [*wrapper_command(), self.binary, "run", *map(str, args)]
+        self._killed = False  # by `stop`, after the daemon ignored SIGTERM
+        self._checked = not _checks_exit()
         self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                      stdin=subprocess.DEVNULL, text=True)
         self._drain = _Drain(self.proc.stderr) if drain_stderr else None
         try:
-            deadline = time.monotonic() + timeout
+            deadline = time.monotonic() + timeout * timeout_scale()
             self.ready: list[dict] = [self._readiness_line(deadline) for _ in range(ports)]
         except BaseException:
-            self.stop(timeout=2.0)
+            self._stop(timeout=2.0)
             raise
 
     def _readiness_line(self, deadline: float) -> dict:
@@ -118,7 +147,7 @@ class DaemonProcess:
 
     def _failure(self, message: str) -> DaemonError:
         """A DaemonError with the exit status and stderr, after stopping the process."""
-        code = self.stop(timeout=2.0)
+        code = self._stop(timeout=2.0)
         return DaemonError(f"{message} ({' '.join(self.args)}; exit status {code})",
                            self.stderr(), code)
 
@@ -144,12 +173,33 @@ class DaemonProcess:
 
     def stop(self, timeout: float = 5.0) -> int:
         """SIGTERM (the daemon stops cleanly), then SIGKILL if it has not exited within
-        `timeout` seconds; returns the exit status. Safe to call more than once."""
+        `timeout` seconds; returns the exit status. Safe to call more than once. With
+        $DXLEMU_CHECK_EXIT=1 the first call raises DaemonError, with the daemon's stderr,
+        unless the status is 0 (or the daemon was killed with SIGKILL before this call)."""
+        code = self._stop(timeout)
+        if not self._checked:
+            self._checked = True
+            if self._killed:
+                problem = f"did not exit within {timeout * timeout_scale():g} s of SIGTERM"
+            elif code > 0:
+                problem = f"exited with status {code}"
+            elif code < 0 and code != -signal.SIGKILL:
+                problem = f"died of signal {-code} ({signal.strsignal(-code)})"
+            else:
+                problem = ""
+            if problem:
+                raise DaemonError(f"{self.binary} {problem} ({' '.join(self.args)})",
+                                  self.stderr(), code)
+        return code
+
+    def _stop(self, timeout: float) -> int:
+        """`stop` without the exit status check."""
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
             try:
-                self.proc.wait(timeout=timeout)
+                self.proc.wait(timeout=timeout * timeout_scale())
             except subprocess.TimeoutExpired:
+                self._killed = True
                 self.proc.kill()
                 self.proc.wait()
         self.proc.stdout.close()
@@ -265,19 +315,22 @@ class Emulator:
     def stop(self, timeout: float = 5.0) -> int | None:
         """Stops the daemon: the `shutdown` command, then SIGTERM, then SIGKILL, each given
         `timeout` seconds; removes the temporary directory. Returns the exit status (0 after a
-        clean stop). Safe to call more than once."""
+        clean stop). Safe to call more than once. With $DXLEMU_CHECK_EXIT=1 the first call
+        raises DaemonError as `DaemonProcess.stop` does."""
         code = None
-        if self.process is not None:
-            if self.control is not None and self.process.running:
-                try:
-                    self.control.shutdown()
-                    self.process.wait(timeout)
-                except (ControlError, OSError, ValueError, subprocess.TimeoutExpired):
-                    pass
-            code = self.process.stop(timeout)
-        if self.control is not None:
-            self.control.close()
-        self._dir.cleanup()
+        try:
+            if self.process is not None:
+                if self.control is not None and self.process.running:
+                    try:
+                        self.control.shutdown()
+                        self.process.wait(timeout * timeout_scale())
+                    except (ControlError, OSError, ValueError, subprocess.TimeoutExpired):
+                        pass
+                code = self.process.stop(timeout)
+        finally:
+            if self.control is not None:
+                self.control.close()
+            self._dir.cleanup()
         return code
 
     def __enter__(self) -> Emulator:

@@ -8,7 +8,7 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, packet2
+from dxl_client import Control, Daemon, Port, dxlemu_command, packet2
 
 PING, READ = 0x01, 0x02
 
@@ -174,8 +174,8 @@ class ControlTest(unittest.TestCase):
         scenario = os.path.join(self.dir.name, "bad.json")
         with open(scenario, "w", encoding="utf-8") as f:
             json.dump({"steps": [{"at_ms": 0, "cmd": "fault.add", "rule": {"action": "boom"}}]}, f)
-        proc = subprocess.run([os.environ["DXLEMU_BIN"], "run", "--link", self.link,
-                               "--control", self.socket, "--scenario", scenario],
+        proc = subprocess.run(dxlemu_command("run", "--link", self.link,
+                                              "--control", self.socket, "--scenario", scenario),
                               capture_output=True, text=True, timeout=30)
         self.assertEqual(proc.returncode, 2)
         self.assertIn(scenario, proc.stderr)

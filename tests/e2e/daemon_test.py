@@ -10,10 +10,9 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Daemon, Port, packet1, packet2
+from dxl_client import Daemon, Port, dxlemu_command, packet1, packet2
 
 PING, READ, WRITE, SYNC_READ = 0x01, 0x02, 0x03, 0x82
-BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45 (models/xm430-w350.json)
 
 
@@ -191,7 +190,7 @@ class DaemonTest(unittest.TestCase):
                               (["--timing", "slow"], "--timing: slow not in"),
                               (["--config", "x.json", "--servo", "ax-12a:1"],
                                "--config excludes --servo")]:
-            result = subprocess.run([BINARY, "run", "--link", self.link, *args],
+            result = subprocess.run(dxlemu_command("run", "--link", self.link, *args),
                                     capture_output=True, text=True, timeout=10)
             self.assertEqual(result.returncode, 2, args)
             self.assertIn(message, result.stderr)
@@ -237,7 +236,7 @@ class DaemonTest(unittest.TestCase):
     def test_check_validates_a_config_and_a_bad_one_is_refused_with_exit_code_2(self):
         good = self.write_config({"ports": [{"name": "dxl0", "servos": [
             {"model": "xm430-w350", "id": 1}]}]})
-        result = subprocess.run([BINARY, "check", good], capture_output=True, text=True)
+        result = subprocess.run(dxlemu_command("check", good), capture_output=True, text=True)
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn(good + ": ok", result.stdout)
         bad = self.write_config({"ports": [{"name": "dxl0", "link": self.link, "servos": [
@@ -245,7 +244,7 @@ class DaemonTest(unittest.TestCase):
         expected = (bad + ": /ports/0/servos/0/items/return_delay_time: xm430-w350 "
                     "return_delay_time 999 is outside its range 0 ~ 254")
         for command in (["check", bad], ["run", "--config", bad]):
-            result = subprocess.run([BINARY, *command], capture_output=True, text=True,
+            result = subprocess.run(dxlemu_command(*command), capture_output=True, text=True,
                                     timeout=10)
             self.assertEqual(result.returncode, 2, command)
             self.assertEqual(result.stderr.strip(), "dxlemu: " + expected)
@@ -292,7 +291,7 @@ class DaemonTest(unittest.TestCase):
         with open(state, "w") as f:
             f.write('{"format": "dxlemu-state", "version": 1, "ports": '
                     '{"dxl0": [{"model": "xm430-w350", "eeprom": {"id": 300}}]}}')
-        result = subprocess.run([BINARY, "run", "--link", self.link, "--state", state],
+        result = subprocess.run(dxlemu_command("run", "--link", self.link, "--state", state),
                                 capture_output=True, text=True, timeout=10)
         self.assertEqual(result.returncode, 2)
         self.assertIn(state + ": /ports/dxl0/0/eeprom/id: 300 is outside", result.stderr)

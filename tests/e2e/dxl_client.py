@@ -5,10 +5,14 @@ The package's codec is written independently of the C++ one, from ../shared/refe
 protocol1.md, protocol2.md and protocol2-crc.md. This module only adds `python/` to sys.path,
 re-exports the names the tests use, and keeps `Daemon`, the tests' raw handle on
 `dxlemu run ARGS` (arguments as given, one readiness line read, stdout and stderr left to the
-test).
+test), and `dxlemu_command`, the argument list of any other dxlemu run.
+
+Both honour $DXLEMU_WRAPPER (scripts/memcheck.sh runs every dxlemu under valgrind that way),
+and a `Daemon` $DXLEMU_CHECK_EXIT and $DXLEMU_TIMEOUT_SCALE too (python/dxlemu/daemon.py).
 """
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -17,12 +21,20 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 
 from dxlemu.codec import crc16, packet1, packet2, stuff, unstuff  # noqa: E402
 from dxlemu.control import Control, ControlError  # noqa: E402
-from dxlemu.daemon import DaemonError, DaemonProcess  # noqa: E402
+from dxlemu.daemon import DaemonError, DaemonProcess, timeout_scale, wrapper_command  # noqa: E402
 from dxlemu.port import BAUD_RATES as BAUD  # noqa: E402
 from dxlemu.port import Port  # noqa: E402
 
-__all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "Port", "crc16", "packet1",
-           "packet2", "stuff", "unstuff"]
+__all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "Port", "crc16",
+           "dxlemu_command", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
+
+BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
+
+
+def dxlemu_command(*args: str) -> list[str]:
+    """`dxlemu ARGS` as an argument list for subprocess: $DXLEMU_BIN (else
+    build/emulator/dxlemu, from the checkout's root) after $DXLEMU_WRAPPER's words."""
+    return [*wrapper_command(), BINARY, *args]
 
 
 class Daemon:
@@ -37,7 +49,8 @@ class Daemon:
         self.ready: dict = self._process.ready[0]
 
     def stop(self) -> int:
-        """SIGTERM (SIGKILL after 5 s), then the exit status."""
+        """SIGTERM (SIGKILL after 5 s), then the exit status; with $DXLEMU_CHECK_EXIT=1,
+        raises DaemonError unless it is 0 (or SIGKILL sent by the test)."""
         try:
             return self._process.stop()
         finally:
