@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fuzz_input.hpp"
+#include "fuzz_require.hpp"
 #include "repair_checks.hpp"
 #include "sim/sim_time.hpp"
 #include "wire/crc16.hpp"
@@ -31,17 +32,6 @@
 #if !defined(DXLEMU_FUZZ_PROTOCOL) || (DXLEMU_FUZZ_PROTOCOL != 1 && DXLEMU_FUZZ_PROTOCOL != 2)
 #error "compile with -DDXLEMU_FUZZ_PROTOCOL=1 or 2"
 #endif
-
-// A macro rather than a function so the message names the broken invariant and its line; abort()
-// (not an exception) because the codec's own exceptions must stay visible as crashes too.
-#define FUZZ_REQUIRE(condition)                                                                \
-  do {                                                                                         \
-    if (!(condition)) {                                                                        \
-      std::fprintf(stderr, "fuzz_wire: invariant violated at %s:%d: %s\n", __FILE__, __LINE__, \
-                   #condition);                                                                \
-      std::abort();                                                                            \
-    }                                                                                          \
-  } while (false)
 
 namespace dxlemu::fuzz {
 namespace {

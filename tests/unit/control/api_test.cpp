@@ -16,7 +16,7 @@
 #include "bus/loopback_link.hpp"
 #include "control/api.hpp"
 #include "control/target.hpp"
-#include "shipped_model.hpp"
+#include "ports_target.hpp"
 #include "wire/instruction_encoder.hpp"
 
 using namespace dxlemu;
@@ -25,67 +25,7 @@ using nlohmann::json;
 
 namespace {
 
-/// A Target of one or two ports of real servos on a hand-stepped clock.
-class FakeTarget : public control::Target {
- public:
-  struct Port {
-    std::string name;
-    bus::LoopbackLink link;
-    bus::Bus bus;
-    Port(std::string port_name, sim::Scheduler& scheduler)
-        : name(std::move(port_name)), bus(scheduler, link) {}
-  };
-
-  sim::Scheduler scheduler;
-  faults::Injector injector{1};
-  std::deque<Port> ports;
-  bool manual = true;
-  bool shutdown_requested = false;
-
-  Port& add_port(const std::string& name) {
-    Port& port = ports.emplace_back(name, scheduler);
-    port.bus.set_faults(&injector, name);
-    return port;
-  }
-  model::Servo& add(Port& port, const std::string& model, std::uint8_t id) {
-    return port.bus.add_servo(std::make_unique<model::Servo>(test::shipped_model(model), id));
-  }
-
-  std::vector<std::string> port_names() const override {
-    std::vector<std::string> names;
-    for (const auto& port : ports) {
-      names.push_back(port.name);
-    }
-    return names;
-  }
-  bus::Bus* bus(std::string_view name) override {
-    for (auto& port : ports) {
-      if (port.name == name) {
-        return &port.bus;
-      }
-    }
-    return nullptr;
-  }
-  json port_info(std::string_view name) const override {
-    return {{"pty", "/dev/pts/" + std::string(name)}};
-  }
-  sim::SimTime now() const override { return scheduler.now(); }
-  bool manual_clock() const override { return manual; }
-  void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
-  void request_shutdown() override { shutdown_requested = true; }
-  faults::Injector& faults() override { return injector; }
-  void subscribe_trace(std::uint64_t client, std::vector<std::string> names) override {
-    subscriptions[client] = std::move(names);
-  }
-  void unsubscribe_trace(std::uint64_t client) override { subscriptions.erase(client); }
-  void schedule_in(sim::SimDuration delay, std::function<void()> action) override {
-    scheduler.schedule_at(scheduler.now() + delay, std::move(action));
-  }
-  void warn(const std::string& message) override { warnings.push_back(message); }
-
-  std::map<std::uint64_t, std::vector<std::string>> subscriptions;
-  std::vector<std::string> warnings;
-};
+using FakeTarget = test::PortsTarget;
 
 /// dxl0: two XM430-W350 (IDs 1 and 2); dxl1: one AX-12A (ID 3).
 struct Rig {

@@ -1,0 +1,88 @@
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "bus/loopback_link.hpp"
+#include "control/target.hpp"
+#include "faults/injector.hpp"
+#include "shipped_model.hpp"
+#include "sim/scheduler.hpp"
+
+namespace dxlemu::test {
+
+/// A control::Target of ports of real servos on a hand-stepped clock, for the control API's unit
+/// tests and its fuzz target (header-only: users link dxlemu_app). What the daemon would do
+/// outside the API (trace subscriptions, warnings, shutdown) is recorded for the tests to check.
+class PortsTarget : public control::Target {
+ public:
+  /// One port: its bus, and a link that records what the bus sends.
+  struct Port {
+    std::string name;
+    bus::LoopbackLink link;
+    bus::Bus bus;
+    Port(std::string port_name, sim::Scheduler& scheduler)
+        : name(std::move(port_name)), bus(scheduler, link) {}
+  };
+
+  sim::Scheduler scheduler;
+  faults::Injector injector{1};
+  std::deque<Port> ports;  // a deque: buses stay where they were made
+  bool manual = true;      // what manual_clock() says
+  bool shutdown_requested = false;
+  std::map<std::uint64_t, std::vector<std::string>> subscriptions;  // by client
+  std::vector<std::string> warnings;
+
+  /// Adds a port named `name` under the target's fault rules.
+  Port& add_port(const std::string& name) {
+    Port& port = ports.emplace_back(name, scheduler);
+    port.bus.set_faults(&injector, name);
+    return port;
+  }
+  /// Adds a servo of the shipped model `model` with `id` to `port`.
+  model::Servo& add(Port& port, const std::string& model, std::uint8_t id) {
+    return port.bus.add_servo(std::make_unique<model::Servo>(shipped_model(model), id));
+  }
+
+  std::vector<std::string> port_names() const override {
+    std::vector<std::string> names;
+    for (const auto& port : ports) {
+      names.push_back(port.name);
+    }
+    return names;
+  }
+  bus::Bus* bus(std::string_view name) override {
+    for (auto& port : ports) {
+      if (port.name == name) {
+        return &port.bus;
+      }
+    }
+    return nullptr;
+  }
+  nlohmann::json port_info(std::string_view name) const override {
+    return {{"pty", "/dev/pts/" + std::string(name)}};
+  }
+  sim::SimTime now() const override { return scheduler.now(); }
+  bool manual_clock() const override { return manual; }
+  void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
+  void request_shutdown() override { shutdown_requested = true; }
+  faults::Injector& faults() override { return injector; }
+  void subscribe_trace(std::uint64_t client, std::vector<std::string> names) override {
+    subscriptions[client] = std::move(names);
+  }
+  void unsubscribe_trace(std::uint64_t client) override { subscriptions.erase(client); }
+  void schedule_in(sim::SimDuration delay, std::function<void()> action) override {
+    scheduler.schedule_at(scheduler.now() + delay, std::move(action));
+  }
+  void warn(const std::string& message) override { warnings.push_back(message); }
+};
+
+}  // namespace dxlemu::test
