@@ -427,6 +427,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     spec.notes = root.child("notes").strings();
   }
   spec.items = read_items(root.at("items"));
+  spec.index_items();
 
   if (root.has("indirect")) {
     const Node blocks = root.child("indirect");

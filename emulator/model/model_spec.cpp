@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 #include <utility>
 
 namespace dxlemu::model {
@@ -68,13 +69,22 @@ const ItemSpec* ModelSpec::find(std::string_view key) const {
   return index ? &items[*index] : nullptr;
 }
 
-std::optional<std::size_t> ModelSpec::index_of(std::string_view key) const {
+void ModelSpec::index_items() {
+  item_index.clear();
   for (std::size_t i = 0; i < items.size(); ++i) {
-    if (items[i].key == key) {
-      return i;
-    }
+    item_index.emplace(items[i].key, i);
   }
-  return std::nullopt;
+}
+
+std::optional<std::size_t> ModelSpec::index_of(std::string_view key) const {
+  if (item_index.size() != items.size()) {
+    throw std::logic_error("model " + name + ": items are not indexed (ModelSpec::index_items)");
+  }
+  const auto found = item_index.find(key);
+  if (found == item_index.end()) {
+    return std::nullopt;
+  }
+  return found->second;
 }
 
 std::size_t ModelSpec::table_size() const {

@@ -2,9 +2,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "wire/protocol.hpp"
@@ -106,6 +108,13 @@ struct MotionSpec {
   std::optional<double> acceleration_unit_rpm2;  ///< rev/min² per unit of Profile Acceleration
 };
 
+/// Hashes item keys given as std::string or std::string_view alike, so that lookups by
+/// std::string_view make no copy.
+struct KeyHash {
+  using is_transparent = void;  ///< enables heterogeneous lookup
+  std::size_t operator()(std::string_view key) const { return std::hash<std::string_view>{}(key); }
+};
+
 /// Everything the emulator knows about one DYNAMIXEL model, loaded from its model file.
 struct ModelSpec {
   std::string name;   ///< e.g. "xm430-w350": the name used in the CLI, configs and the API
@@ -126,10 +135,16 @@ struct ModelSpec {
   std::string source;
   std::vector<std::string> notes;
   std::vector<ItemSpec> items;  ///< in address order
+  /// Key → index into `items`, for find() and index_of(): servos look up dozens of items by key
+  /// when they are built. Filled by index_items().
+  std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> item_index;
 
+  /// Fills item_index from `items`; call it whenever `items` is set (the loader does).
+  void index_items();
   /// The item with `key`, or nullptr.
   const ItemSpec* find(std::string_view key) const;
-  /// Index of the item with `key`, or nullopt.
+  /// Index of the item with `key`, or nullopt. Throws std::logic_error if index_items() was not
+  /// called after `items` was set.
   std::optional<std::size_t> index_of(std::string_view key) const;
   /// One past the highest address of any item: the size of the control table's byte image.
   std::size_t table_size() const;
