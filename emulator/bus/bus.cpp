@@ -90,10 +90,14 @@ SimDuration Bus::line_time(std::size_t bytes, std::uint32_t bps) const {
 }
 
 // "For an instruction whose bytes arrived at t: line_end = t + wire(instruction)" (DESIGN.md).
-// A packet written in pieces cannot end before its last piece arrived plus one byte time.
+// A packet written in pieces cannot end before its last piece arrived plus one byte time. The
+// bytes of one write are stamped back to back (receive), so they take the first branch.
 SimTime Bus::line_end(const wire::Frame& frame, std::uint32_t bps) const {
-  return std::max(frame.first_byte_at + line_time(frame.raw.size(), bps),
-                  frame.last_byte_at + line_time(1, bps));
+  const std::size_t size = frame.raw.size();
+  if (frame.last_byte_at <= frame.first_byte_at + line_time(size - 1, bps)) {
+    return frame.first_byte_at + line_time(size, bps);
+  }
+  return frame.last_byte_at + line_time(1, bps);
 }
 
 SimDuration Bus::turnaround(const Reply& reply) const {
@@ -204,27 +208,41 @@ void Bus::apply_hardware_faults(SimTime now) {
 
 void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t client_bps) {
   stats_.bytes_in += bytes.size();
-  // Collision policy (docs/bus.md): bytes from the client while replies are still due would
-  // garble them on a real half-duplex line. The pending replies are dropped; their servos still
-  // apply what the instruction changed. The new bytes are heard normally.
-  if (!outgoing_.empty()) {
-    ++stats_.collisions;
-    for (const auto& o : outgoing_) {
-      o->cancelled = true;
-    }
-    outgoing_.clear();
+  drop_pending_replies();
+  // Each protocol's framer hears the line when a servo speaks that protocol (mixed buses). The
+  // bytes of one write follow each other on the line, a byte time apart.
+  std::vector<SimTime> times(bytes.size());
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    times[i] = at + line_time(i, client_bps);
   }
-  // Each protocol's framer hears the line when a servo speaks that protocol (mixed buses).
   std::vector<wire::FramerEvent> events;
   for (const auto protocol : {wire::Protocol::V1, wire::Protocol::V2}) {
     const bool heard = std::any_of(stations_.begin(), stations_.end(),
                                    [&](const auto& s) { return s->servo->protocol() == protocol; });
     if (heard) {
-      (protocol == wire::Protocol::V1 ? v1_framer_ : v2_framer_).feed(bytes, at, events);
+      (protocol == wire::Protocol::V1 ? v1_framer_ : v2_framer_).feed(bytes, times, events);
     }
   }
+  // Both framers' events in the order their bytes were on the line.
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
+    return wire::first_byte_at(a) < wire::first_byte_at(b);
+  });
   handle(events, client_bps);
   schedule_expiry(client_bps);
+}
+
+// Collision policy (docs/bus.md): bytes from the client while replies are still due would garble
+// them on a real half-duplex line. The pending replies are dropped; their servos still apply what
+// the instruction changed. The new bytes are heard normally.
+void Bus::drop_pending_replies() {
+  if (outgoing_.empty()) {
+    return;
+  }
+  ++stats_.collisions;
+  for (const auto& o : outgoing_) {
+    o->cancelled = true;
+  }
+  outgoing_.clear();
 }
 
 // A partial packet is dropped when the line stays quiet past the inter-byte timeout; an event at
@@ -270,6 +288,11 @@ void Bus::handle(const std::vector<wire::FramerEvent>& events, std::uint32_t cli
   }
   for (const wire::FramerEvent& event : events) {
     const auto* failure = std::get_if<wire::FramingError>(&event);
+    // A packet written right behind another (in one write) is on the line while the replies to
+    // the first are due: the same collision as a packet sent without waiting.
+    if (failure == nullptr || failure->kind == wire::FramingErrorKind::BadCheck) {
+      drop_pending_replies();
+    }
     if (observer_.heard &&
         (failure == nullptr || failure->kind != wire::FramingErrorKind::Garbage)) {
       observer_.heard(event);

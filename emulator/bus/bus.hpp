@@ -109,6 +109,8 @@ class Bus {
   };
 
   void handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps);
+  /// Cancels every reply not yet delivered and counts a collision, if there was any.
+  void drop_pending_replies();
   /// Clears the previous packet's servo faults (before the next packet is heard).
   void forget_servo_faults();
   /// Fault hooks when a packet with `packet_id` and `protocol` is heard: decides for each

@@ -58,4 +58,10 @@ struct FramingError {
 /// One output of a Framer, in the order the bytes arrived.
 using FramerEvent = std::variant<Frame, FramingError>;
 
+/// When the first byte an event covers arrived.
+inline sim::SimTime first_byte_at(const FramerEvent& event) {
+  const auto* frame = std::get_if<Frame>(&event);
+  return frame != nullptr ? frame->first_byte_at : std::get<FramingError>(event).at;
+}
+
 }  // namespace dxlemu::wire

@@ -1,6 +1,7 @@
 #include "wire/framer.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 #include "wire/checksum.hpp"
@@ -55,13 +56,23 @@ Framer::Framer(FrameFormat format) : format_(std::move(format)) {}
 
 void Framer::feed(std::span<const std::uint8_t> bytes, sim::SimTime at,
                   std::vector<FramerEvent>& out) {
-  expire(at, out);
+  expire(at, out);  // even when nothing came: time passed
+  const std::vector<sim::SimTime> times(bytes.size(), at);
+  feed(bytes, times, out);
+}
+
+void Framer::feed(std::span<const std::uint8_t> bytes, std::span<const sim::SimTime> times,
+                  std::vector<FramerEvent>& out) {
+  if (times.size() != bytes.size()) {
+    throw std::invalid_argument("Framer::feed: one arrival time per byte");
+  }
   if (bytes.empty()) {
     return;
   }
+  expire(times.front(), out);
   buf_.insert(buf_.end(), bytes.begin(), bytes.end());
-  times_.insert(times_.end(), bytes.size(), at);
-  last_at_ = at;
+  times_.insert(times_.end(), times.begin(), times.end());
+  last_at_ = times.back();
   scan(false, out);
 }
 

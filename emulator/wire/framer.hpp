@@ -50,6 +50,10 @@ class Framer {
   /// Consumes `bytes` that arrived at `at` and appends what they complete to `out`. If the bytes
   /// still buffered are older than the inter-byte timeout, they are resolved first (see expire).
   void feed(std::span<const std::uint8_t> bytes, sim::SimTime at, std::vector<FramerEvent>& out);
+  /// As feed(bytes, at, out), with the arrival time of each byte (`times` as long as `bytes`, in
+  /// order): for bytes that followed each other on a line.
+  void feed(std::span<const std::uint8_t> bytes, std::span<const sim::SimTime> times,
+            std::vector<FramerEvent>& out);
 
   /// Resolves the buffered bytes if the inter-byte timeout has passed at `now`: complete packets
   /// inside them are still yielded, the incomplete rest becomes Truncated or Garbage.

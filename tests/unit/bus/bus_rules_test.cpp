@@ -101,9 +101,10 @@ TEST_CASE("A partial packet is dropped and counted when the line stays quiet", "
   rig.add("xm430-w350", 1);
   const auto bytes = wire::encode_instruction({Protocol::V2, 1, wire::Ping{}});
   rig.bus.receive(std::span(bytes).first(6), rig.scheduler.now(), BusRig::kBaud);
-  rig.run(1ms);
+  // The timeout runs from the arrival of the last byte, 5 byte times after the first.
+  rig.run(test::line(5) + 1500us);
   CHECK(rig.bus.stats().truncated == 0);
-  rig.run(1ms);
+  rig.run(1ns);
   CHECK(rig.bus.stats().truncated == 1);
   rig.bus.receive(bytes, rig.scheduler.now(), BusRig::kBaud);
   rig.run();

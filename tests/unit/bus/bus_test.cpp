@@ -289,6 +289,45 @@ TEST_CASE("An instruction sent while replies are due drops them and counts a col
   CHECK(rig.bus.servos()[0]->table().get("led") == 1);  // the first write still happened
 }
 
+TEST_CASE("In one write, the second instruction follows the first on the line and drops its reply",
+          "[bus][timing]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  auto bytes = wire::encode_instruction({Protocol::V2, 1, wire::Write{65, {1}}});
+  const std::size_t write_size = bytes.size();
+  const auto ping = wire::encode_instruction({Protocol::V2, 1, wire::Ping{}});
+  bytes.insert(bytes.end(), ping.begin(), ping.end());
+  rig.bus.receive(bytes, rig.scheduler.now(), BusRig::kBaud);
+  rig.run();
+  const auto& d = rig.link.deliveries();
+  REQUIRE(d.size() == 1);
+  CHECK(test::status_text(d[0].bytes) == "id=1 error=0x00 params=FC 03 2D");
+  CHECK(d[0].at == sim::SimTime{} + line(write_size) + line(ping.size()) + kXProcessing +
+                       kXReturnDelay + line(d[0].bytes.size()));
+  CHECK(rig.bus.stats().collisions == 1);
+  CHECK(rig.bus.servos()[0]->table().get("led") == 1);
+}
+
+TEST_CASE("Packets of both protocols in one write: the later one is answered", "[bus][timing]") {
+  const auto v1_ping = wire::encode_instruction({Protocol::V1, 5, wire::Ping{}});
+  const auto v2_ping = wire::encode_instruction({Protocol::V2, 1, wire::Ping{}});
+  for (const bool v1_first : {true, false}) {
+    CAPTURE(v1_first);
+    BusRig rig;
+    rig.add("xm430-w350", 1);
+    rig.add("mx-28", 5);  // Protocol 1.0 at 57600 bps
+    auto bytes = v1_first ? v1_ping : v2_ping;
+    const auto& second = v1_first ? v2_ping : v1_ping;
+    bytes.insert(bytes.end(), second.begin(), second.end());
+    rig.bus.receive(bytes, rig.scheduler.now(), BusRig::kBaud);
+    rig.run();
+    const auto& d = rig.link.deliveries();
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].bytes.size() == (v1_first ? 14U : 6U));  // 2.0 or 1.0 Ping status
+    CHECK(rig.bus.stats().collisions == 1);
+  }
+}
+
 TEST_CASE("Status Return Level 0 answers only Ping, and broadcast writes are silent", "[bus]") {
   BusRig rig;
   rig.add("xm430-w350", 1).table().set("status_return_level", 0);

@@ -303,7 +303,7 @@ TEST_CASE("Reply faults reach a Fast Sync Read packet", "[faults][bus]") {
   REQUIRE(d.size() == 1);
   wire::Framer framer(Protocol::V2);
   std::vector<wire::FramerEvent> events;
-  framer.feed(d.front().bytes, {}, events);
+  framer.feed(d.front().bytes, sim::SimTime{}, events);
   REQUIRE(events.size() == 1);
   CHECK(std::holds_alternative<wire::FramingError>(events.front()));
 }

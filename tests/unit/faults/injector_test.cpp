@@ -144,7 +144,7 @@ TEST_CASE("Wire damage: a broken check, flipped bits, a new ID with a valid chec
   const auto heard = [](const std::vector<std::uint8_t>& bytes, wire::Protocol protocol) {
     wire::Framer framer(protocol);
     std::vector<wire::FramerEvent> events;
-    framer.feed(bytes, {}, events);
+    framer.feed(bytes, sim::SimTime{}, events);
     REQUIRE(events.size() == 1);
     return events.front();
   };

@@ -5,6 +5,7 @@
 #include "framer_events.hpp"
 #include "golden_file.hpp"
 #include "wire/framer.hpp"
+#include "wire/instruction_encoder.hpp"
 
 using namespace dxlemu;
 using namespace std::chrono_literals;
@@ -86,4 +87,28 @@ TEST_CASE("A stream cut into chunks of every size from 1 to 17 bytes frames iden
       CHECK(test::frames_of(events).size() == packets.size());
     }
   }
+}
+
+TEST_CASE("Bytes fed with their own arrival times stamp each packet and error with them",
+          "[wire][framer]") {
+  const auto ping = wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}});
+  std::vector<std::uint8_t> bytes = {0x00};  // one garbage byte first
+  bytes.insert(bytes.end(), ping.begin(), ping.end());
+  bytes.insert(bytes.end(), ping.begin(), ping.end());
+  std::vector<SimTime> times;
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    times.push_back(SimTime{} + 10us * static_cast<int>(i));
+  }
+  Framer framer(wire::Protocol::V2);
+  std::vector<wire::FramerEvent> events;
+  framer.feed(bytes, times, events);
+  REQUIRE(events.size() == 3);
+  CHECK(wire::first_byte_at(events[0]) == SimTime{});
+  const auto frames = test::frames_of(events);
+  REQUIRE(frames.size() == 2);
+  CHECK(frames[0].first_byte_at == SimTime{} + 10us);
+  CHECK(frames[0].last_byte_at == SimTime{} + 10us * static_cast<int>(ping.size()));
+  CHECK(frames[1].first_byte_at == SimTime{} + 10us * static_cast<int>(1 + ping.size()));
+  CHECK(wire::first_byte_at(events[2]) == frames[1].first_byte_at);
+  CHECK_THROWS_AS(framer.feed(bytes, std::span(times).first(1), events), std::invalid_argument);
 }
