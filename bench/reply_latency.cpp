@@ -127,7 +127,7 @@ std::size_t status_size(std::size_t params) {
 bool valid_replies(std::span<const std::uint8_t> bytes, const Case& c) {
   wire::Framer framer(wire::Protocol::V2);
   std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
+  framer.feed(bytes, dxlemu::sim::SimTime{}, events);
   if (events.size() != c.replies.size()) {
     return false;
   }

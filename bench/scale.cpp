@@ -250,7 +250,7 @@ struct ChainCheck {
 ChainCheck check_chain(std::span<const std::uint8_t> bytes, const Chain& chain) {
   wire::Framer framer(wire::Protocol::V2);
   std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
+  framer.feed(bytes, dxlemu::sim::SimTime{}, events);
   ChainCheck result;
   std::size_t place = 0;
   for (const wire::FramerEvent& event : events) {
@@ -459,7 +459,7 @@ std::filesystem::path write_config(const TempDir& dir) {
 bool valid_status(std::span<const std::uint8_t> bytes, std::uint8_t id, std::size_t params) {
   wire::Framer framer(wire::Protocol::V2);
   std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
+  framer.feed(bytes, dxlemu::sim::SimTime{}, events);
   if (events.size() != 1 || !std::holds_alternative<wire::Frame>(events[0])) {
     return false;
   }

@@ -215,18 +215,31 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
   for (std::size_t i = 0; i < times.size(); ++i) {
     times[i] = at + line_time(i, client_bps);
   }
-  std::vector<wire::FramerEvent> events;
-  for (const auto protocol : {wire::Protocol::V1, wire::Protocol::V2}) {
-    const bool heard = std::any_of(stations_.begin(), stations_.end(),
-                                   [&](const auto& s) { return s->servo->protocol() == protocol; });
-    if (heard) {
-      (protocol == wire::Protocol::V1 ? v1_framer_ : v2_framer_).feed(bytes, times, events);
+  // Both framers' events go in the order their first bytes were on the line (the in-write
+  // collision rule depends on it): by position in this write, negative when the bytes came in an
+  // earlier one.
+  std::vector<std::pair<std::int64_t, wire::FramerEvent>> heard;
+  for (wire::Framer* framer : {&v1_framer_, &v2_framer_}) {
+    const wire::Protocol protocol = framer->format().protocol;
+    if (std::none_of(stations_.begin(), stations_.end(),
+                     [&](const auto& s) { return s->servo->protocol() == protocol; })) {
+      continue;
+    }
+    const auto base = static_cast<std::int64_t>(framer->fed());
+    std::vector<wire::FramerEvent> events;
+    framer->feed(bytes, times, events);
+    for (auto& event : events) {
+      heard.emplace_back(static_cast<std::int64_t>(wire::offset_of(event)) - base,
+                         std::move(event));
     }
   }
-  // Both framers' events in the order their bytes were on the line.
-  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
-    return wire::first_byte_at(a) < wire::first_byte_at(b);
-  });
+  std::stable_sort(heard.begin(), heard.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<wire::FramerEvent> events;
+  events.reserve(heard.size());
+  for (auto& [position, event] : heard) {
+    events.push_back(std::move(event));
+  }
   handle(events, client_bps);
   schedule_expiry(client_bps);
 }

@@ -27,6 +27,8 @@ struct Frame {
   /// Arrival times (simulated clock) of the packet's first and last byte.
   sim::SimTime first_byte_at{};
   sim::SimTime last_byte_at{};
+  /// Position of the first byte among all the bytes fed to the framer (0: the very first).
+  std::uint64_t offset = 0;
 
   bool operator==(const Frame&) const = default;
 };
@@ -51,6 +53,8 @@ struct FramingError {
   std::optional<std::uint8_t> instruction;
   /// Arrival time of the first byte concerned.
   sim::SimTime at{};
+  /// Position of the first byte concerned among all the bytes fed to the framer.
+  std::uint64_t offset = 0;
 
   bool operator==(const FramingError&) const = default;
 };
@@ -58,10 +62,10 @@ struct FramingError {
 /// One output of a Framer, in the order the bytes arrived.
 using FramerEvent = std::variant<Frame, FramingError>;
 
-/// When the first byte an event covers arrived.
-inline sim::SimTime first_byte_at(const FramerEvent& event) {
+/// Position of the first byte an event covers among all the bytes fed to its framer.
+inline std::uint64_t offset_of(const FramerEvent& event) {
   const auto* frame = std::get_if<Frame>(&event);
-  return frame != nullptr ? frame->first_byte_at : std::get<FramingError>(event).at;
+  return frame != nullptr ? frame->offset : std::get<FramingError>(event).offset;
 }
 
 }  // namespace dxlemu::wire

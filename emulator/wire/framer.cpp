@@ -123,6 +123,7 @@ Frame Framer::make_frame(std::size_t pos, std::size_t total) const {
   frame.raw.assign(first, first + static_cast<std::ptrdiff_t>(total));
   frame.first_byte_at = times_[pos];
   frame.last_byte_at = times_[pos + total - 1];
+  frame.offset = dropped_ + pos;
   // Instruction and parameters: everything between LENGTH and the check bytes.
   const std::span<const std::uint8_t> region(buf_.data() + body,
                                              pos + total - format_.check_bytes - body);
@@ -148,6 +149,7 @@ void Framer::skip_garbage(std::size_t count) {
     }
     if (garbage_count_ == 0) {
       garbage_at_ = times_[i];
+      garbage_offset_ = dropped_ + i;
     }
     ++garbage_count_;
   }
@@ -163,6 +165,7 @@ void Framer::flush_garbage(std::vector<FramerEvent>& out) {
   e.protocol = format_.protocol;
   e.bytes = garbage_count_;
   e.at = garbage_at_;
+  e.offset = garbage_offset_;
   out.emplace_back(e);
   garbage_count_ = 0;
 }
@@ -176,6 +179,7 @@ void Framer::reject(FramingErrorKind kind, std::size_t pos, std::size_t bytes,
   e.protocol = format_.protocol;
   e.bytes = bytes;
   e.at = times_[pos];
+  e.offset = dropped_ + pos;
   if (pos + h < buf_.size()) {
     e.id = buf_[pos + h];
   }
@@ -255,6 +259,7 @@ void Framer::scan(bool stale, std::vector<FramerEvent>& out) {
 
 void Framer::compact() {
   if (start_ >= buf_.size()) {
+    dropped_ += buf_.size();
     buf_.clear();
     times_.clear();
     start_ = 0;
@@ -265,6 +270,7 @@ void Framer::compact() {
     return;
   }
   const auto n = static_cast<std::ptrdiff_t>(start_);
+  dropped_ += start_;
   buf_.erase(buf_.begin(), buf_.begin() + n);
   times_.erase(times_.begin(), times_.begin() + n);
   quiet_end_ = quiet_end_ > start_ ? quiet_end_ - start_ : 0;

@@ -63,6 +63,9 @@ class Framer {
   /// nothing is buffered.
   std::optional<sim::SimTime> deadline() const;
 
+  /// Bytes fed so far, in all: the offset the next byte fed will have.
+  std::uint64_t fed() const { return dropped_ + buf_.size(); }
+
   /// Bytes held while waiting for the rest of a packet.
   std::size_t buffered() const { return buf_.size() - start_; }
 
@@ -88,6 +91,8 @@ class Framer {
   sim::SimTime last_at_{};
   std::size_t garbage_count_ = 0;  // garbage run not yet reported
   sim::SimTime garbage_at_{};
+  std::uint64_t garbage_offset_ = 0;
+  std::uint64_t dropped_ = 0;  // bytes removed from the front of buf_ so far
 };
 
 }  // namespace dxlemu::wire

@@ -308,12 +308,17 @@ TEST_CASE("In one write, the second instruction follows the first on the line an
   CHECK(rig.bus.servos()[0]->table().get("led") == 1);
 }
 
-TEST_CASE("Packets of both protocols in one write: the later one is answered", "[bus][timing]") {
+TEST_CASE("Packets of both protocols in one write: the later one is answered, in any timing",
+          "[bus][timing]") {
   const auto v1_ping = wire::encode_instruction({Protocol::V1, 5, wire::Ping{}});
   const auto v2_ping = wire::encode_instruction({Protocol::V2, 1, wire::Ping{}});
-  for (const bool v1_first : {true, false}) {
-    CAPTURE(v1_first);
+  for (const auto& [v1_first, timing] :
+       {std::pair{true, bus::ReplyTiming::Modelled}, std::pair{false, bus::ReplyTiming::Modelled},
+        std::pair{true, bus::ReplyTiming::Immediate},
+        std::pair{false, bus::ReplyTiming::Immediate}}) {
+    CAPTURE(v1_first, timing == bus::ReplyTiming::Immediate);
     BusRig rig;
+    rig.bus.set_reply_timing(timing);
     rig.add("xm430-w350", 1);
     rig.add("mx-28", 5);  // Protocol 1.0 at 57600 bps
     auto bytes = v1_first ? v1_ping : v2_ping;

@@ -89,7 +89,7 @@ TEST_CASE("A stream cut into chunks of every size from 1 to 17 bytes frames iden
   }
 }
 
-TEST_CASE("Bytes fed with their own arrival times stamp each packet and error with them",
+TEST_CASE("Bytes fed with their own arrival times stamp packets and errors with time and offset",
           "[wire][framer]") {
   const auto ping = wire::encode_instruction({wire::Protocol::V2, 1, wire::Ping{}});
   std::vector<std::uint8_t> bytes = {0x00};  // one garbage byte first
@@ -103,12 +103,15 @@ TEST_CASE("Bytes fed with their own arrival times stamp each packet and error wi
   std::vector<wire::FramerEvent> events;
   framer.feed(bytes, times, events);
   REQUIRE(events.size() == 3);
-  CHECK(wire::first_byte_at(events[0]) == SimTime{});
+  CHECK(std::get<wire::FramingError>(events[0]).at == SimTime{});
+  CHECK(wire::offset_of(events[0]) == 0);
   const auto frames = test::frames_of(events);
   REQUIRE(frames.size() == 2);
   CHECK(frames[0].first_byte_at == SimTime{} + 10us);
   CHECK(frames[0].last_byte_at == SimTime{} + 10us * static_cast<int>(ping.size()));
+  CHECK(frames[0].offset == 1);
   CHECK(frames[1].first_byte_at == SimTime{} + 10us * static_cast<int>(1 + ping.size()));
-  CHECK(wire::first_byte_at(events[2]) == frames[1].first_byte_at);
+  CHECK(frames[1].offset == 1 + ping.size());
+  CHECK(framer.fed() == bytes.size());
   CHECK_THROWS_AS(framer.feed(bytes, std::span(times).first(1), events), std::invalid_argument);
 }
