@@ -428,6 +428,14 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   }
   spec.items = read_items(root.at("items"));
   spec.index_items();
+  // Every servo needs these to be on a bus at all: its address, its line speed and its reply
+  // timing (model::Servo reads them when it is built).
+  for (const std::string key : {"id", "baud_rate", "return_delay_time"}) {
+    if (!spec.find(key)) {
+      root.at("items").fail("has no item \"" + key +
+                            "\" (every model needs id, baud_rate and return_delay_time)");
+    }
+  }
 
   if (root.has("indirect")) {
     const Node blocks = root.child("indirect");

@@ -52,8 +52,8 @@ TEST_CASE("Writes to read-only items or reserved addresses are Access errors", "
   CHECK(write(t, 2, {0x00}) == TableError::Access);
   CHECK(write(t, 60, {0x00}) == TableError::Access);
   // A block write that runs from a writable item into a reserved byte fails as a whole.
-  CHECK(write(t, 7, {0x05, 0x00}) == TableError::Access);
-  CHECK(t.get("id") == 1);
+  CHECK(write(t, 9, {0x05, 0x00}) == TableError::Access);
+  CHECK(t.get("return_delay_time") == 250);
 }
 
 TEST_CASE("A 2.0 write covering part of a multi-byte item is a Data Length error, 1.0 allows it",

@@ -2,6 +2,8 @@
 // JSON pointer and the reason (docs/model-format.md "Refusals").
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "model/model_loader.hpp"
 #include "test_model.hpp"
 
@@ -46,7 +48,7 @@ TEST_CASE("A valid model file loads with every field", "[model][loader]") {
   CHECK(spec->bps_for_index(1) == std::optional<std::uint32_t>(57600));
   CHECK(!spec->bps_for_index(2));
   CHECK(spec->table_size() == 60);
-  CHECK(spec->items.size() == 19);
+  CHECK(spec->items.size() == 21);
   const auto& goal_pwm = *spec->find("goal_pwm");
   CHECK(goal_pwm.is_signed);
   CHECK(goal_pwm.initial == 885);  // initial_from pwm_limit
@@ -120,6 +122,18 @@ TEST_CASE("The loader refuses malformed JSON and missing or unknown fields", "[m
         "/model_number: must be between 0 and 65535, got 70000");
   CHECK(refusal([](json& j) { item(j, "id")["sise"] = 1; }) == "/items/1/sise: unknown field");
   CHECK(refusal([](json& j) { j["colour"] = "red"; }) == "/colour: unknown field");
+}
+
+TEST_CASE("The loader refuses a model without the items every servo needs", "[model][loader]") {
+  for (const std::string key : {"id", "baud_rate", "return_delay_time"}) {
+    CAPTURE(key);
+    CHECK(refusal([&](json& j) {
+            auto& items = j["items"];
+            items.erase(std::find_if(items.begin(), items.end(),
+                                     [&](const json& i) { return i["key"] == key; }));
+          }) == "/items: has no item \"" + key +
+                    "\" (every model needs id, baud_rate and return_delay_time)");
+  }
 }
 
 TEST_CASE("The loader refuses an unknown family", "[model][loader]") {

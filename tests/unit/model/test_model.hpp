@@ -39,7 +39,9 @@ inline nlohmann::json test_model_json() {
       {"key": "indirect_data_2", "name": "Indirect Data 2", "address": 51, "size": 1, "access": "RW", "area": "RAM", "initial": 0},
       {"key": "indirect_data_3", "name": "Indirect Data 3", "address": 52, "size": 1, "access": "RW", "area": "RAM", "initial": 0},
       {"key": "indirect_data_4", "name": "Indirect Data 4", "address": 53, "size": 1, "access": "RW", "area": "RAM", "initial": 0},
-      {"key": "present_temperature", "name": "Present Temperature", "address": 59, "size": 1, "access": "R", "area": "RAM", "initial": 25}
+      {"key": "present_temperature", "name": "Present Temperature", "address": 59, "size": 1, "access": "R", "area": "RAM", "initial": 25},
+      {"key": "baud_rate", "name": "Baud Rate", "address": 8, "size": 1, "access": "RW", "area": "EEPROM", "initial": 1, "values": [0, 1, 3]},
+      {"key": "return_delay_time", "name": "Return Delay Time", "address": 9, "size": 1, "access": "RW", "area": "EEPROM", "initial": 250, "min": 0, "max": 254}
     ]
   })");
 }
