@@ -799,8 +799,11 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol pr
                               settlements = std::move(settlements)] {
     std::erase(outgoing_, outgoing);
     if (!outgoing->cancelled && !bytes.empty()) {
-      stats_.replies += is_reply ? 1 : 0;
-      link_.deliver(bytes, scheduler_.now());
+      if (link_.deliver(bytes, scheduler_.now())) {
+        stats_.replies += is_reply ? 1 : 0;
+      } else {
+        ++stats_.unread_drops;
+      }
       if (observer_.sent) {
         observer_.sent(bytes, scheduler_.now(), protocol);
       }

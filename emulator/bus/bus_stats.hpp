@@ -14,6 +14,7 @@ struct BusStats {
   std::uint64_t impossible_lengths = 0;
   std::uint64_t decode_errors = 0;    ///< frames whose parameters broke the instruction's layout
   std::uint64_t replies = 0;          ///< status packets handed to the link
+  std::uint64_t unread_drops = 0;     ///< packets the link dropped: the client was not reading
   std::uint64_t collisions = 0;       ///< instructions that arrived while replies were still due
   std::uint64_t id_conflicts = 0;     ///< replies garbled because two servos share an ID
   std::uint64_t faults_injected = 0;  ///< packets a fault rule acted on (docs/faults.md)

@@ -16,8 +16,9 @@ class ByteLink {
   virtual ~ByteLink() = default;
 
   /// Hands `bytes` to the client at simulated time `at`, the moment their last byte would have
-  /// arrived on a real line. Called from a scheduler event, at `at`.
-  virtual void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) = 0;
+  /// arrived on a real line. Called from a scheduler event, at `at`. Returns false when the link
+  /// dropped them instead (the client is not reading: docs/bus.md "Statistics").
+  virtual bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) = 0;
 };
 
 }  // namespace dxlemu::bus

@@ -16,9 +16,16 @@ class LoopbackLink : public ByteLink {
     bool operator==(const Delivery&) const = default;
   };
 
-  void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override {
+  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override {
+    if (!accepting_) {
+      return false;
+    }
     deliveries_.push_back({{bytes.begin(), bytes.end()}, at});
+    return true;
   }
+
+  /// While false, deliveries are refused, as by a client that stopped reading.
+  void set_accepting(bool accepting) { accepting_ = accepting; }
 
   /// Everything delivered so far, in order.
   const std::vector<Delivery>& deliveries() const { return deliveries_; }
@@ -27,6 +34,7 @@ class LoopbackLink : public ByteLink {
 
  private:
   std::vector<Delivery> deliveries_;
+  bool accepting_ = true;
 };
 
 }  // namespace dxlemu::bus

@@ -340,17 +340,12 @@ ordered_json clock_step(Target& target, const Args& args) {
 }
 
 ordered_json stats_json(const bus::BusStats& s) {
-  return {{"bytes_in", s.bytes_in},
-          {"frames", s.frames},
-          {"garbage_bytes", s.garbage_bytes},
-          {"bad_checks", s.bad_checks},
-          {"truncated", s.truncated},
-          {"impossible_lengths", s.impossible_lengths},
-          {"decode_errors", s.decode_errors},
-          {"replies", s.replies},
-          {"collisions", s.collisions},
-          {"id_conflicts", s.id_conflicts},
-          {"faults_injected", s.faults_injected}};
+  return {{"bytes_in", s.bytes_in},           {"frames", s.frames},
+          {"garbage_bytes", s.garbage_bytes}, {"bad_checks", s.bad_checks},
+          {"truncated", s.truncated},         {"impossible_lengths", s.impossible_lengths},
+          {"decode_errors", s.decode_errors}, {"replies", s.replies},
+          {"unread_drops", s.unread_drops},   {"collisions", s.collisions},
+          {"id_conflicts", s.id_conflicts},   {"faults_injected", s.faults_injected}};
 }
 
 ordered_json stats(Target& target, const Args& args) {

@@ -104,22 +104,23 @@ void PtyLink::read_more() {
                           });
 }
 
-void PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {
+bool PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {
   if (write_queue_.empty()) {
     // The usual case: the PTY has room, and the reply goes out now without a queue entry.
     const std::size_t sent = write_now(bytes);
     if (sent == bytes.size()) {
-      return;
+      return true;
     }
     bytes = bytes.subspan(sent);  // a packet begun is finished: never a torn reply
   } else if (queued_bytes_ + bytes.size() > kMaxQueuedBytes) {
-    return;  // nobody reads: dropped
+    return false;  // nobody reads: dropped
   }
   queued_bytes_ += bytes.size();
   write_queue_.emplace_back(bytes.begin(), bytes.end());
   if (write_queue_.size() == 1) {
     write_next();
   }
+  return true;
 }
 
 std::size_t PtyLink::write_now(std::span<const std::uint8_t> bytes) {

@@ -45,7 +45,7 @@ class PtyLink : public bus::ByteLink {
   /// Writes `bytes` to the client (queued; never blocks). `at` is not used: the driver calls this
   /// at the right moment. While 64 KiB wait for room in the PTY (the client reads nothing),
   /// further packets are dropped.
-  void deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
+  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
 
  private:
   /// Reads the client's bytes and hands them on, again and again.

@@ -4,7 +4,13 @@ Found while writing scripts/reliability: a client that sent instructions and nev
 replies (a script that only writes, ignoring Status packets) made the daemon queue every reply
 once the PTY was full, without limit (200,000 Pings: 2.8 MB queued, RSS up 11 MB), and hand the
 stale replies over whenever the client read again, even after it flushed its input. The daemon
-now drops replies while 64 KiB wait for room, as a serial adapter's full receive buffer does.
+now drops replies while 64 KiB wait for room, as a serial adapter's full receive buffer does,
+and counts them in `stats` as `unread_drops`.
+
+The client writes its packets without waiting, so the daemon reads several at once and, as on a
+real line, only the last of those gets its reply (docs/bus.md "Collisions"). The packets are
+Reads of 512 bytes, so the replies that remain still fill the 64 KiB; every packet is accounted
+for as a reply handed over, a reply dropped unread, or a collision.
 
 Run by ctest as reliability.unread_replies_do_not_pile_up (DXLEMU_BIN set).
 """
@@ -18,10 +24,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 
 from dxlemu import Emulator  # noqa: E402
-from dxlemu.protocol import PING, Port, packet2  # noqa: E402
+from dxlemu.protocol import PING, READ, Port, packet2  # noqa: E402
 
-PINGS = 200_000
-PER_WRITE = 100
+READS = 200_000
+READ_SIZE = 512
 DAEMON_QUEUE_LIMIT = 64 * 1024
 
 
@@ -38,10 +44,11 @@ class UnreadRepliesDoNotPileUp(unittest.TestCase):
                 port.write(packet2(1, PING))
                 self.assertIsNotNone(port.status2(timeout=2.0))
                 rss_before = rss_kib(pid)
-                for _ in range(PINGS // PER_WRITE):
-                    port.write(packet2(1, PING) * PER_WRITE)
+                read = packet2(1, READ, bytes([0, 0, READ_SIZE & 0xFF, READ_SIZE >> 8]))
+                for _ in range(READS):
+                    port.write(read)
                 deadline = time.monotonic() + 10
-                sent = (PINGS + 1) * len(packet2(1, PING))
+                sent = len(packet2(1, PING)) + READS * len(read)
                 while emulator.control.stats()["dxl0"]["bytes_in"] < sent:
                     self.assertLess(time.monotonic(), deadline, "the daemon did not read it all")
                     time.sleep(0.05)
@@ -53,6 +60,10 @@ class UnreadRepliesDoNotPileUp(unittest.TestCase):
                 while chunk := port.read(65536, timeout=0.3):
                     stale += len(chunk)
                 self.assertLess(stale, DAEMON_QUEUE_LIMIT + 128 * 1024)
+                stats = emulator.control.stats()["dxl0"]
+                self.assertGreater(stats["unread_drops"], 0, stats)
+                self.assertEqual(stats["replies"] + stats["unread_drops"] + stats["collisions"],
+                                 stats["frames"], stats)
                 port.write(packet2(2, PING))
                 self.assertEqual(port.status2(timeout=2.0).id, 2)
             self.assertEqual(emulator.stop(), 0)

@@ -333,6 +333,21 @@ TEST_CASE("Packets of both protocols in one write: the later one is answered, in
   }
 }
 
+TEST_CASE("Replies the link drops because the client does not read count as unread drops",
+          "[bus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  rig.link.set_accepting(false);
+  rig.send({Protocol::V2, 1, wire::Ping{}});
+  rig.run();
+  rig.link.set_accepting(true);
+  rig.send({Protocol::V2, 1, wire::Ping{}});
+  rig.run();
+  CHECK(rig.link.deliveries().size() == 1);
+  CHECK(rig.bus.stats().replies == 1);
+  CHECK(rig.bus.stats().unread_drops == 1);
+}
+
 TEST_CASE("Status Return Level 0 answers only Ping, and broadcast writes are silent", "[bus]") {
   BusRig rig;
   rig.add("xm430-w350", 1).table().set("status_return_level", 0);

@@ -242,12 +242,12 @@ TEST_CASE("stats reports every counter of every port, or of the one asked for", 
   rig.target.scheduler.advance_by(10ms);
   const std::string dxl0 =
       R"("dxl0":{"bytes_in":10,"frames":1,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
-      R"("impossible_lengths":0,"decode_errors":0,"replies":1,"collisions":0,"id_conflicts":0,)"
-      R"("faults_injected":0})";
+      R"("impossible_lengths":0,"decode_errors":0,"replies":1,"unread_drops":0,"collisions":0,)"
+      R"("id_conflicts":0,"faults_injected":0})";
   const std::string dxl1 =
       R"("dxl1":{"bytes_in":0,"frames":0,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
-      R"("impossible_lengths":0,"decode_errors":0,"replies":0,"collisions":0,"id_conflicts":0,)"
-      R"("faults_injected":0})";
+      R"("impossible_lengths":0,"decode_errors":0,"replies":0,"unread_drops":0,"collisions":0,)"
+      R"("id_conflicts":0,"faults_injected":0})";
   CHECK(rig.api.handle(R"({"id":8,"cmd":"stats"})") ==
         R"({"id":8,"ok":true,"result":{)" + dxl0 + "," + dxl1 + "}}");
   CHECK(rig.api.handle(R"({"id":9,"cmd":"stats","port":"dxl1"})") ==
