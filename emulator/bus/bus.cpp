@@ -603,25 +603,27 @@ void Bus::group_read(const wire::InstructionPacket& packet, SimTime end, std::ui
   bool fast = false;
   bool v1_bulk = false;
   std::vector<ReadSlot> slots;
+  // protocol1.md (Bulk Read): "If an identical ID is designated multiple times, only the first
+  // designated parameter will be processed." A servo handles a packet once, so Sync Read too.
+  auto add_slot = [&](const ReadSlot& slot) {
+    if (std::none_of(slots.begin(), slots.end(),
+                     [&](const ReadSlot& s) { return s.id == slot.id; })) {
+      slots.push_back(slot);
+    }
+  };
   std::visit(
       [&](const auto& ins) {
         using T = std::decay_t<decltype(ins)>;
         if constexpr (std::is_base_of_v<wire::SyncRead, T>) {
           fast = std::is_same_v<T, wire::FastSyncRead>;
           for (const std::uint8_t id : ins.ids) {
-            slots.push_back({id, ins.address, ins.length});
+            add_slot({id, ins.address, ins.length});
           }
         } else if constexpr (std::is_base_of_v<wire::BulkRead, T>) {
           fast = std::is_same_v<T, wire::FastBulkRead>;
           v1_bulk = packet.protocol == wire::Protocol::V1;
           for (const wire::BulkReadTarget& t : ins.targets) {
-            // protocol1.md: "If an identical ID is designated multiple times, only the first
-            // designated parameter will be processed."
-            const bool seen = std::any_of(slots.begin(), slots.end(),
-                                          [&](const ReadSlot& s) { return s.id == t.id; });
-            if (!seen) {
-              slots.push_back({t.id, t.address, t.length});
-            }
+            add_slot({t.id, t.address, t.length});
           }
         }
       },

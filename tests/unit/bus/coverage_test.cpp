@@ -817,6 +817,30 @@ TEST_CASE(
                                             {0xFF, 0xFF, 0x02, 0x03, 0x00, 0x19, 0xE1}});
 }
 
+TEST_CASE("A Sync Read that lists an ID twice is answered once per servo, Fast or not", "[bus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  rig.add("xm430-w350", 2);
+  rig.send({Protocol::V2, kBroadcast, wire::SyncRead{146, 1, {1, 2, 1}}});
+  rig.run();
+  CHECK(
+      delivered(rig) ==
+      std::vector<Bytes>{{0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x05, 0x00, 0x55, 0x00, 0x19, 0x06, 0xA1},
+                         {0xFF, 0xFF, 0xFD, 0x00, 0x02, 0x05, 0x00, 0x55, 0x00, 0x19, 0x06, 0x29}});
+  BusRig fast;
+  fast.add("xm430-w350", 1);
+  fast.add("xm430-w350", 2);
+  fast.send({Protocol::V2, kBroadcast, wire::FastSyncRead{{146, 1, {2, 1, 2}}}});
+  fast.run();
+  REQUIRE(fast.link.deliveries().size() == 1);
+  // Two blocks of error, ID, 1 byte, CRC after the 8-byte head: LENGTH 1 + 2 * 5.
+  const Bytes& reply = fast.link.deliveries()[0].bytes;
+  CHECK(reply.size() == 8 + 2 * 5);
+  CHECK(reply[5] == 1 + 2 * 5);
+  CHECK(reply[9] == 2);
+  CHECK(reply[14] == 1);
+}
+
 TEST_CASE("A Bulk Write that lists an ID twice applies its first block only", "[bus]") {
   BusRig rig;
   auto& one = rig.add("xm430-w350", 1);
