@@ -1,7 +1,7 @@
 # Runs one fuzz target for a fixed number of runs from a fresh work directory; fails on any crash,
 # sanitizer report or broken invariant (libFuzzer then exits non-zero and leaves the input in
 # WORK_DIR/artifacts). Called by ctest with -DFUZZER, -DSEED_CORPUS, -DWORK_DIR and -DRUNS, and
-# optionally -DMAX_LEN (default 4096).
+# optionally -DMAX_LEN (default 4096) and -DEXTRA_CORPUS (a second seed directory).
 
 foreach(var FUZZER SEED_CORPUS WORK_DIR RUNS)
   if(NOT DEFINED ${var})
@@ -12,6 +12,11 @@ endforeach()
 if(NOT DEFINED MAX_LEN)
   # The largest packet the 2.0 framer accepts.
   set(MAX_LEN 4096)
+endif()
+
+set(corpora ${SEED_CORPUS})
+if(DEFINED EXTRA_CORPUS)
+  list(APPEND corpora ${EXTRA_CORPUS})
 endif()
 
 file(GLOB seeds ${SEED_CORPUS}/*)
@@ -26,7 +31,7 @@ file(MAKE_DIRECTORY ${WORK_DIR}/corpus ${WORK_DIR}/artifacts)
 # -seed=1 makes the run repeatable.
 execute_process(
   COMMAND ${FUZZER} -runs=${RUNS} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1
-          -artifact_prefix=${WORK_DIR}/artifacts/ ${WORK_DIR}/corpus ${SEED_CORPUS}
+          -artifact_prefix=${WORK_DIR}/artifacts/ ${WORK_DIR}/corpus ${corpora}
   WORKING_DIRECTORY ${WORK_DIR}
   RESULT_VARIABLE result)
 if(NOT result EQUAL 0)
