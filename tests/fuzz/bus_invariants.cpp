@@ -31,7 +31,7 @@ constexpr std::int64_t kExtendedPositionMode = 4;
 constexpr std::int64_t kCurrentBasedPositionMode = 5;
 
 // The devices a Fast read lists and the bytes each must send, or nothing for any other packet.
-// Bulk reads answer an ID's first block only (protocol1.md "Bulk Read"; docs/bus.md).
+// Sync and Bulk reads answer an ID's first listing only (protocol1.md "Bulk Read"; docs/bus.md).
 template <class Layout>
 std::optional<Layout> fast_read_layout(const wire::Frame& frame) {
   const auto decoded = wire::decode_instruction(frame);
@@ -39,19 +39,21 @@ std::optional<Layout> fast_read_layout(const wire::Frame& frame) {
   if (packet == nullptr || packet->id != wire::kBroadcastId) {
     return std::nullopt;
   }
+  Layout layout;
+  auto add = [&](std::uint8_t id, std::uint16_t length) {
+    if (std::none_of(layout.begin(), layout.end(), [&](const auto& b) { return b.id == id; })) {
+      layout.push_back({id, length});
+    }
+  };
   if (const auto* sync = std::get_if<wire::FastSyncRead>(&packet->instruction)) {
-    Layout layout;
     for (const std::uint8_t id : sync->ids) {
-      layout.push_back({id, sync->length});
+      add(id, sync->length);
     }
     return layout;
   }
   if (const auto* bulk = std::get_if<wire::FastBulkRead>(&packet->instruction)) {
-    Layout layout;
     for (const wire::BulkReadTarget& t : bulk->targets) {
-      if (std::none_of(layout.begin(), layout.end(), [&](const auto& b) { return b.id == t.id; })) {
-        layout.push_back({t.id, t.length});
-      }
+      add(t.id, t.length);
     }
     return layout;
   }
