@@ -12,11 +12,16 @@ real line, only the last of those gets its reply (docs/bus.md "Collisions"). The
 Reads of 512 bytes, so the replies that remain still fill the 64 KiB; every packet is accounted
 for as a reply handed over, a reply dropped unread, or a collision.
 
+A dropped reply is still traced (docs/trace.md): it was on the line, only the client's adapter
+lost it.
+
 Run by ctest as reliability.unread_replies_do_not_pile_up (DXLEMU_BIN set).
 """
 from __future__ import annotations
 
+import json
 import sys
+import tempfile
 import time
 import unittest
 from pathlib import Path
@@ -67,6 +72,28 @@ class UnreadRepliesDoNotPileUp(unittest.TestCase):
                 port.write(packet2(2, PING))
                 self.assertEqual(port.status2(timeout=2.0).id, 2)
             self.assertEqual(emulator.stop(), 0)
+
+    def test_replies_dropped_unread_are_traced(self):
+        reads = 2_000  # about 1 MB of replies: well past the PTY's buffer and the daemon's 64 KiB
+        with tempfile.TemporaryDirectory() as tmp:
+            trace = Path(tmp) / "trace.jsonl"
+            with Emulator(timing="fast", trace=trace) as emulator:
+                with Port(emulator.link) as port:
+                    read = packet2(1, READ, bytes([0, 0, READ_SIZE & 0xFF, READ_SIZE >> 8]))
+                    for _ in range(reads):
+                        port.write(read)
+                        time.sleep(0.0005)  # most packets apart, so most earn a reply
+                    deadline = time.monotonic() + 10
+                    while emulator.control.stats()["dxl0"]["bytes_in"] < reads * len(read):
+                        self.assertLess(time.monotonic(), deadline, "the daemon did not read it")
+                        time.sleep(0.05)
+                    stats = emulator.control.stats()["dxl0"]
+                self.assertEqual(emulator.stop(), 0)
+            lines = [json.loads(line) for line in trace.read_text().splitlines()]
+        outs = [line for line in lines if line["dir"] == "out"]
+        self.assertGreater(stats["unread_drops"], 0, stats)
+        self.assertEqual(len(outs), stats["replies"] + stats["unread_drops"], stats)
+        self.assertTrue(all(line["packet"].startswith("id=1 error=0x00") for line in outs))
 
 
 if __name__ == "__main__":
