@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 #include "fuzz_require.hpp"
@@ -93,7 +94,9 @@ bool item_value_allowed(const model::Servo& servo, std::size_t item, std::int64_
   return false;
 }
 
-ReplyChecker::ReplyChecker(bus::Bus& bus, const bus::LoopbackLink& link) : bus_(bus), link_(link) {
+ReplyChecker::ReplyChecker(bus::Bus& bus, const bus::LoopbackLink& link,
+                           std::function<void()> before_packet)
+    : bus_(bus), link_(link), before_packet_(std::move(before_packet)) {
   bus.set_observer({[this](const wire::FramerEvent& event) { heard(event); },
                     [this](std::span<const std::uint8_t> bytes, sim::SimTime at,
                            wire::Protocol protocol) { sent(bytes, at, protocol); }});
@@ -110,6 +113,9 @@ void ReplyChecker::remember_servos() {
 }
 
 void ReplyChecker::heard(const wire::FramerEvent& event) {
+  if (before_packet_) {
+    before_packet_();
+  }
   // Heard events come from Bus::handle, after receive() dropped any replies still due (counted
   // as a collision): what was expected of them is void.
   if (bus_.stats().collisions != collisions_seen_) {

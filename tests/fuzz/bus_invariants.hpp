@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <span>
 #include <vector>
@@ -28,8 +29,11 @@ bool item_value_allowed(const model::Servo& servo, std::size_t item, std::int64_
 /// replies (the AND of several packets, which keeps the header).
 class ReplyChecker {
  public:
-  /// Installs itself as `bus`'s observer; both must outlive it.
-  ReplyChecker(bus::Bus& bus, const bus::LoopbackLink& link);
+  /// Installs itself as `bus`'s observer; both must outlive it. `before_packet`, when given, runs
+  /// each time the bus hears a packet, before the servos handle it: it sees the state the packet
+  /// before left.
+  ReplyChecker(bus::Bus& bus, const bus::LoopbackLink& link,
+               std::function<void()> before_packet = {});
 
   /// Checks that every delivery the link recorded went through the checks.
   void finish() const;
@@ -49,6 +53,7 @@ class ReplyChecker {
 
   const bus::Bus& bus_;
   const bus::LoopbackLink& link_;
+  std::function<void()> before_packet_;
   std::size_t checked_ = 0;
   sim::SimTime last_delivery_{};
   // Replies still due: everything since the last instruction that cancelled them.

@@ -286,6 +286,25 @@ TEST_CASE("Changing Operating Mode resets the profile, Goal PWM and Goal Current
   CHECK(rig.get("present_position") == 10);
 }
 
+TEST_CASE("Changing Operating Mode leaves Goal Position as it was until torque on",
+          "[model][motion]") {
+  // The e-Manual's list of what a mode switch resets does not name Goal Position
+  // (includes/control_table_opmode_six_2.md): a multi-turn goal outlives Extended Position mode.
+  Rig rig("xm430-w350");
+  REQUIRE(rig.write("operating_mode", kExtendedMode) == kOk);
+  REQUIRE(rig.write("goal_position", 5 * kTurn) == kOk);
+  REQUIRE(rig.write("operating_mode", kVelocityMode) == kOk);
+  CHECK(rig.get("goal_position") == 5 * kTurn);
+  REQUIRE(rig.write("operating_mode", kPositionMode) == kOk);
+  CHECK(rig.get("goal_position") == 5 * kTurn);
+  // A write is judged by the mode of now, and torque on replaces the old goal with where the
+  // shaft is.
+  CHECK(rig.write("goal_position", 5 * kTurn) == kDataRange);
+  rig.servo.table().set("present_position", 200);
+  REQUIRE(rig.write("torque_enable", 1) == kOk);
+  CHECK(rig.get("goal_position") == 200);
+}
+
 TEST_CASE("Torque on holds where the shaft is and wraps the position in Position mode",
           "[model][motion]") {
   Rig rig("xm430-w350");
