@@ -35,8 +35,9 @@ _REPO_BINARY = Path(__file__).resolve().parents[2] / "build" / "emulator" / "dxl
 
 
 class DaemonError(Exception):
-    """The daemon could not be found, exited before it was ready, or did not get ready in
-    time. `stderr` holds what it wrote there, `returncode` its exit status (None if running)."""
+    """The daemon could not be found or run (the message names the path), exited before it
+    was ready, or did not get ready in time. `stderr` holds what it wrote there, `returncode`
+    its exit status (None if it is running or never ran)."""
 
     def __init__(self, message: str, stderr: str = "", returncode: int | None = None):
         super().__init__(f"{message}\n{stderr.rstrip()}" if stderr.strip() else message)
@@ -104,9 +105,9 @@ class DaemonProcess:
     `proc` is the subprocess.Popen (stdout and stderr are text pipes); `ready` the readiness
     lines as dicts. With `drain_stderr` (the default) stderr is collected in the background
     (`stderr()`); without it the caller reads `proc.stderr` itself, and closes it. Raises
-    DaemonError, with the daemon's stderr, when it exits or stays silent for `timeout` seconds
-    before it is ready. `args` is the whole command: $DXLEMU_WRAPPER's words, if any, then
-    the binary, `run` and ARGS."""
+    DaemonError when the binary cannot be run (naming it), and, with the daemon's stderr, when
+    it exits or stays silent for `timeout` seconds before it is ready. `args` is the whole
+    command: $DXLEMU_WRAPPER's words, if any, then the binary, `run` and ARGS."""
 
     def __init__(self, args: Sequence[str], *, binary: str | os.PathLike | None = None,
                  ports: int = 1, timeout: float = 10.0, drain_stderr: bool = True):
@@ -114,8 +115,13 @@ class DaemonProcess:
         self.args = [*wrapper_command(), self.binary, "run", *map(str, args)]
         self._killed = False  # by `stop`, after the daemon ignored SIGTERM
         self._checked = not _checks_exit()
-        self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                     stdin=subprocess.DEVNULL, text=True)
+        try:
+            self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE,
+                                         stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
+                                         text=True)
+        except OSError as error:  # missing, not executable, not a program: the path it tried
+            raise DaemonError(f"cannot run {error.filename or self.args[0]}: "
+                              f"{error.strerror or error} ({' '.join(self.args)})") from error
         self._drain = _Drain(self.proc.stderr) if drain_stderr else None
         try:
             deadline = time.monotonic() + timeout * timeout_scale()

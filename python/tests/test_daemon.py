@@ -1,6 +1,7 @@
 """Emulator and DaemonProcess: start, readiness, ports, stop, and failures with stderr."""
 import json
 import os
+import re
 
 import pytest
 
@@ -64,6 +65,20 @@ def test_the_binary_comes_from_the_argument_then_the_environment(monkeypatch):
     assert find_binary() == "/y/dxlemu"
 
 
-def test_a_missing_binary_is_a_daemon_error():
-    with pytest.raises((DaemonError, OSError)):
+def test_a_missing_binary_is_a_daemon_error_naming_its_path(monkeypatch):
+    monkeypatch.delenv("DXLEMU_WRAPPER", raising=False)  # the binary itself is run
+    with pytest.raises(DaemonError) as error:
         DaemonProcess([], binary="/nonexistent/dxlemu")
+    assert type(error.value) is DaemonError  # not subprocess's FileNotFoundError
+    assert str(error.value).startswith(
+        "cannot run /nonexistent/dxlemu: No such file or directory")
+    assert error.value.returncode is None and error.value.stderr == ""
+
+
+def test_a_binary_that_is_not_executable_is_a_daemon_error_naming_its_path(tmp_path,
+                                                                          monkeypatch):
+    monkeypatch.delenv("DXLEMU_WRAPPER", raising=False)
+    binary = tmp_path / "dxlemu"
+    binary.write_text("not a program\n")  # mode 0644
+    with pytest.raises(DaemonError, match=re.escape(f"cannot run {binary}: Permission denied")):
+        Emulator(binary=binary)
