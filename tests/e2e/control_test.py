@@ -8,9 +8,12 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, dxlemu_command, packet2
+from dxl_client import Control, Daemon, Port, dxlemu_command, heard, packet2
 
 PING, READ = 0x01, 0x02
+PING_BYTES = len(packet2(1, PING))
+BOOT_NS = 400_000_000  # a servo's boot time after power-on (docs/servo.md)
+XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45
 
 
 class ControlTest(unittest.TestCase):
@@ -95,17 +98,34 @@ class ControlTest(unittest.TestCase):
         self.assertAlmostEqual(now["ms"], now["ns"] / 1e6, delta=1e-6)
         self.assertEqual(other.call("get", servo=1, item="id")["value"], 1)
 
+    def assert_ping_unanswered(self, port, control, servo):
+        """Pings `servo` and checks the daemon heard the Ping and sent nothing back. Under
+        manual timing a reply would have been delivered before `heard` returns."""
+        before = control.call("stats", port="dxl0")["dxl0"]
+        port.write(packet2(servo, PING))
+        after = heard(control, before["bytes_in"] + PING_BYTES)
+        self.assertEqual((after["frames"], after["replies"]),
+                         (before["frames"] + 1, before["replies"]))
+        self.assertIsNone(port.status2(timeout=0.05))
+
     def test_a_detached_servo_drops_off_the_bus_and_answers_again_once_attached_and_booted(self):
-        _, control = self.start()
+        # Manual timing: the boot time passes only when the test steps the clock.
+        _, control = self.start("--timing", "manual")
         port = Port(self.link)
+        self.addCleanup(port.close)
         self.assertEqual(control.call("servo.detach", servo=2), {"attached": False, "booting": False})
-        port.write(packet2(2, PING))
-        self.assertIsNone(port.status2(timeout=0.3))
+        self.assert_ping_unanswered(port, control, 2)
+        port.write(packet2(1, PING))
+        self.assertEqual(port.status2()[0:2], (1, 0))  # the others still answer
         self.assertEqual(control.call("servo.attach", servo=2), {"attached": True, "booting": True})
-        time.sleep(0.6)  # 400 ms of boot silence
+        self.assert_ping_unanswered(port, control, 2)  # at once: booting
+        control.call("clock.step", ms=399)
+        self.assert_ping_unanswered(port, control, 2)
+        self.assertEqual(control.call("clock.step", ns=999_999)["ns"], BOOT_NS - 1)
+        self.assert_ping_unanswered(port, control, 2)  # 1 ns before the boot time ends
+        self.assertEqual(control.call("clock.step", ns=1)["ns"], BOOT_NS)
         port.write(packet2(2, PING))
-        self.assertEqual(port.status2()[0:2], (2, 0))
-        port.close()
+        self.assertEqual(port.status2(), (2, 0, XM430_W350_PING))
 
     def test_shutdown_stops_the_daemon_and_removes_the_socket_and_the_link(self):
         daemon, control = self.start()
@@ -160,23 +180,26 @@ class ControlTest(unittest.TestCase):
         with open(scenario, "w", encoding="utf-8") as f:
             json.dump({"steps": [{"at_ms": 0, "cmd": "servo.detach", "port": "dxl0", "servo": 2},
                                  {"at_ms": 300, "cmd": "servo.attach", "port": "dxl0", "servo": 2}]}, f)
-        _, control = self.start("--timing", "fast", "--scenario", scenario)
+        # Manual timing: the steps run when the stepped clock reaches them, to the nanosecond.
+        _, control = self.start("--timing", "manual", "--scenario", scenario)
         port = Port(self.link)
+        self.addCleanup(port.close)
+
+        def attached():
+            return control.call("list")["ports"][0]["servos"][1]["attached"]
+
+        self.assertFalse(attached())  # the step at 0 ms ran before the readiness line
+        self.assert_ping_unanswered(port, control, 2)
+        control.call("clock.step", ns=300_000_000 - 1)
+        self.assertFalse(attached())
+        control.call("clock.step", ns=1)
+        self.assertTrue(attached())
+        # It boots (400 ms from its attach at 300 ms) and answers again.
+        control.call("clock.step", ns=BOOT_NS - 1)
+        self.assert_ping_unanswered(port, control, 2)
+        control.call("clock.step", ns=1)
         port.write(packet2(2, PING))
-        self.assertIsNone(port.status2(timeout=0.1))
-        deadline = time.monotonic() + 5
-        while not control.call("list")["ports"][0]["servos"][1]["attached"]:
-            self.assertLess(time.monotonic(), deadline)
-            time.sleep(0.05)
-        # It boots (400 ms) and answers again.
-        while True:
-            port.write(packet2(2, PING))
-            status = port.status2(timeout=0.2)
-            if status is not None:
-                break
-            self.assertLess(time.monotonic(), deadline)
-        self.assertEqual(status[:2], (2, 0))
-        port.close()
+        self.assertEqual(port.status2(), (2, 0, XM430_W350_PING))
 
     def test_a_scenario_step_runs_on_time_without_any_traffic(self):
         scenario = os.path.join(self.dir.name, "stop.json")

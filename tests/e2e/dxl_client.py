@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
@@ -26,7 +27,7 @@ from dxlemu.port import BAUD_RATES as BAUD  # noqa: E402
 from dxlemu.port import Port  # noqa: E402
 
 __all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "Port", "crc16",
-           "dxlemu_command", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
+           "dxlemu_command", "heard", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
 
 BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 
@@ -55,3 +56,20 @@ class Daemon:
             return self._process.stop()
         finally:
             self.proc.stderr.close()
+
+
+def heard(control: Control, count: int, port: str = "dxl0", timeout: float = 5.0) -> dict:
+    """Asks `stats` until the daemon has read `count` bytes from the client on `port` (its
+    `bytes_in`), then returns that port's counters. The daemon handles what it read completely
+    (framing, and under fast and manual timing every reply due at once) before it answers its
+    next control request, so the counters returned include all of it: a test can tell "heard
+    and not answered" from "not heard yet" without waiting on the wall clock, and knows the
+    bytes are stamped before it steps a manual clock. AssertionError after `timeout` seconds."""
+    deadline = time.monotonic() + timeout * timeout_scale()
+    while True:
+        stats = control.call("stats", port=port)[port]
+        if stats["bytes_in"] >= count:
+            return stats
+        if time.monotonic() > deadline:
+            raise AssertionError(f"the daemon read {stats['bytes_in']} of {count} bytes on "
+                                 f"{port} in {timeout} s")
