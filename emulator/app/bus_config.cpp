@@ -119,7 +119,7 @@ class ConfigParser {
     object(value, at, {"name", "link", "servos", "description"});
     PortConfig port;
     port.name = string(member(value, at, "name"), at + "/name");
-    // Port names appear in logs, traces and (later) control-API requests: keep them plain.
+    // Port names appear in logs, traces and control-API requests and replies: keep them plain.
     const bool plain = std::all_of(port.name.begin(), port.name.end(), [](char c) {
       return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.' || c == '-';
     });

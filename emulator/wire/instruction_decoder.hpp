@@ -11,7 +11,9 @@
 
 namespace dxlemu::wire {
 
-/// Which kind of rule a packet broke; a servo maps it to its error status (issue 4).
+/// Which kind of rule a packet broke. A servo (`model::Servo::refuse`) answers BadValue with
+/// Data Range Error and BadLength with Data Length Error (Protocol 1.0: the Range Error bit and
+/// the Instruction Error bit).
 enum class DecodeErrorKind {
   BadLength,  ///< The parameter bytes do not fit the instruction's layout.
   BadValue,   ///< A field holds a value the instruction does not allow.
