@@ -10,7 +10,7 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Daemon, Port, dxlemu_command, packet1, packet2
+from dxl_client import Control, Daemon, Port, dxlemu_command, heard, packet1, packet2
 
 PING, READ, WRITE, SYNC_READ = 0x01, 0x02, 0x03, 0x82
 XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45 (models/xm430-w350.json)
@@ -102,28 +102,80 @@ class DaemonTest(unittest.TestCase):
                          [(3, 0, b"\x03"), (1, 0, b"\x01"), (2, 0, b"\x02")])
         port.close()
 
-    def test_a_packet_split_across_writes_is_answered(self):
-        # Protocol 2.0 allows 1.5 ms between bytes, too little to sleep reliably on a busy
-        # machine: the halves go back to back, and a try whose halves the scheduler still kept
-        # apart longer than that is dropped by the servo (as it should be) and tried again.
-        # Protocol 1.0 allows 100 ms: 20 ms apart.
-        self.start("--servo", "xm430-w350:3", "--servo", "ax-12a:5")
+    def test_a_packet_split_across_writes_is_one_packet_up_to_the_inter_byte_timeout(self):
+        # Manual timing: the daemon stamps the client's bytes with simulated time, which stands
+        # still between the two writes unless the test steps it. The halves are one packet when
+        # the gap is at most the protocol's inter-byte timeout (2.0: 1.5 ms, 1.0: 100 ms; a gap
+        # exactly equal is still one packet, docs/wire.md), and the partial packet is dropped
+        # (counted as truncated) the moment the clock passes it, before the second half comes.
+        control_path = os.path.join(self.dir.name, "control.sock")
+        self.start("--timing", "manual", "--control", control_path,
+                   "--servo", "xm430-w350:3", "--servo", "ax-12a:5")
+        control = Control(control_path)
+        self.addCleanup(control.close)
         port = Port(self.link)
-        ping = packet2(3, PING)
-        for _ in range(5):
-            port.write(ping[:4])
-            port.write(ping[4:])
-            answer = port.status2(timeout=0.3)
-            if answer is not None:
-                break
-        self.assertEqual(answer, (3, 0, XM430_W350_PING))
-        port.set_baud(1000000)
+        self.addCleanup(port.close)
+        sent = 0
+
+        def send_split(packet, cut, gap_ns):
+            """Writes packet[:cut], steps the clock by gap_ns once the daemon has read it, then
+            writes the rest; returns the counters before, after the step and at the end."""
+            nonlocal sent
+            before = control.call("stats", port="dxl0")["dxl0"]
+            port.write(packet[:cut])
+            sent += cut
+            heard(control, sent)  # stamped before the clock moves
+            if gap_ns:
+                control.call("clock.step", ns=gap_ns)
+            stepped = control.call("stats", port="dxl0")["dxl0"]
+            port.write(packet[cut:])
+            sent += len(packet) - cut
+            return before, stepped, heard(control, sent)
+
+        def assert_answered(counters, reply):
+            before, stepped, after = counters
+            self.assertEqual(stepped["truncated"], before["truncated"])
+            self.assertEqual((after["frames"], after["truncated"]),
+                             (before["frames"] + 1, before["truncated"]))
+            self.assertEqual(reply, reply_expected)
+
+        def assert_dropped(counters, reply):
+            before, stepped, after = counters
+            self.assertEqual(stepped["truncated"], before["truncated"] + 1)  # at the timeout
+            self.assertEqual((after["frames"], after["replies"]),
+                             (before["frames"], before["replies"]))
+            self.assertIsNone(reply)
+
+        for protocol, packet, cut, timeout_ns in ((2, packet2(3, PING), 4, 1_500_000),
+                                                  (1, packet1(5, PING), 3, 100_000_000)):
+            if protocol == 1:
+                port.set_baud(1000000)  # the AX-12A's factory rate
+            receive = port.status2 if protocol == 2 else port.status1
+            reply_expected = (3, 0, XM430_W350_PING) if protocol == 2 else (5, 0, b"")
+            for gap_ns in (0, timeout_ns - 1, timeout_ns):
+                with self.subTest(protocol=protocol, gap_ns=gap_ns):
+                    assert_answered(send_split(packet, cut, gap_ns), receive())
+            with self.subTest(protocol=protocol, gap_ns=timeout_ns + 1):
+                assert_dropped(send_split(packet, cut, timeout_ns + 1), receive(timeout=0.05))
+            port.write(packet)  # the line is clean again: the whole packet is answered
+            sent += len(packet)
+            self.assertEqual(receive(), reply_expected)
+
+    def test_in_realtime_a_protocol_1_packet_split_across_writes_is_timed_by_the_wall_clock(self):
+        # Realtime timing stamps the bytes with the wall clock: 20 ms apart is within 1.0's
+        # 100 ms inter-byte timeout, 300 ms apart (a sleep is never shorter) is past it.
+        self.start("--servo", "ax-12a:5")
+        port = Port(self.link, 1000000)
+        self.addCleanup(port.close)
         ping = packet1(5, PING)
         port.write(ping[:3])
         time.sleep(0.02)
         port.write(ping[3:])
         self.assertEqual(port.status1(), (5, 0, b""))
-        port.close()
+        port.write(ping[:3])
+        time.sleep(0.3)
+        port.write(ping[3:])
+        self.assertIsNone(port.status1(timeout=0.3))
 
     def test_a_client_at_another_baud_rate_gets_no_answer(self):
         self.start()
