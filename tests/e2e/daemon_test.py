@@ -314,14 +314,10 @@ class DaemonTest(unittest.TestCase):
         port.write(packet2(1, WRITE, bytes([64, 0, 1])))  # Torque Enable (RAM): not kept
         self.assertEqual(port.status2(), (1, 0, b""))
         port.close()
-        # Saved when the write happened: even kill -9 keeps it.
-        deadline = time.monotonic() + 5
-        while time.monotonic() < deadline:
-            with open(state) as f:
-                servos = json.load(f)["ports"]["dxl0"]
-            if servos[2]["eeprom"]["id"] == 30:
-                break
-            time.sleep(0.01)
+        # Saved before each Write's status was sent (docs/config.md): in the file by the time
+        # the client has read the status, so even kill -9 right after keeps it.
+        with open(state) as f:
+            servos = json.load(f)["ports"]["dxl0"]
         self.assertEqual(servos[1]["eeprom"]["return_delay_time"], 10)
         self.assertEqual(servos[2]["eeprom"]["id"], 30)
         daemon.proc.send_signal(signal.SIGKILL)
@@ -386,7 +382,9 @@ class DaemonTest(unittest.TestCase):
             times = {line["t"] for line in self.read_trace(trace)}
             self.assertEqual(len(times), 1, mode)  # every reply at the instruction's time
             if mode == "manual":
-                self.assertEqual(times, {0.0})
+                self.assertEqual(times, {0.0})  # the 10 ms slept did not move the clock
+            else:
+                self.assertGreaterEqual(min(times), 0.01)  # fast follows the wall clock
 
     def test_log_level_error_keeps_stderr_quiet_and_debug_tells_more(self):
         state = os.path.join(self.dir.name, "state.json")
