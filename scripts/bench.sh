@@ -85,7 +85,7 @@ run_into scale "${scale[@]}"
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 
 # summary FILE...: one row per baud and instruction with the median and p99 of every run (FILE),
-# and how many runs met issue 8's target: |median| <= 20 us and p99 <= 100 us at 1 Mbit/s.
+# and how many runs met the target: |median| <= 20 us and p99 <= 100 us at 1 Mbit/s.
 summary() {
   awk -F'|' -v runs="$runs" '
     function trim(s) { gsub(/^ +| +$/, "", s); return s }
@@ -130,7 +130,7 @@ timing_met() {
 met() {
   awk -v v="$1" "BEGIN { print (($2) ? \"yes\" : \"no\") }"
 }
-# targets: issue 8's figures next to their targets, from the outputs of this run.
+# targets: every figure next to its target, from the outputs of this run.
 targets() {
   local free_met pinned_met ratio correct_sync correct_ping ports idle_open idle_closed serving t
   free_met=$(timing_met "$out"/free-*.md)
@@ -141,7 +141,7 @@ targets() {
   ports=$(value "$out/scale.md" "ports where every servo answered a Ping")
   idle_open=$(value "$out/scale.md" "idle, ports open: dxlemu CPU")
   idle_closed=$(value "$out/scale.md" "idle, ports closed: dxlemu CPU")
-  echo "| figure (issue 8) | target | this run | met |"
+  echo "| figure | target | this run | met |"
   echo "|---|---|---|---|"
   echo "| reply timing at 1 Mbit/s, any CPU: (instruction, run) pairs with \\|median\\| ≤ 20 µs and p99 ≤ 100 µs | all | $free_met | $(met "$free_met" 'split(v, a, " of ") && a[1] == a[2]') |"
   echo "| reply timing at 1 Mbit/s, pinned to one CPU: the same | all | $pinned_met | $(met "$pinned_met" 'split(v, a, " of ") && a[1] == a[2]') |"
