@@ -20,7 +20,7 @@ except ImportError as missing:  # no pyserial: `apt-get install python3-serial`
         sys.exit(77)
     raise
 
-from dxl_client import Daemon, timeout_scale
+from dxl_client import Control, Daemon, heard, packet2, timeout_scale
 
 XM430_W350, AX_12A, FIRMWARE = 1020, 12, 45  # models/xm430-w350.json, models/ax-12a.json
 # XM430 control table (protocol 2.0)
@@ -145,7 +145,10 @@ class SdkClientTest(unittest.TestCase):
         self.assertLess(time.monotonic() - start, 100 * round_trip / 2 * timeout_scale())
 
     def test_broadcast_baud_rate_write_then_the_sdk_follows_at_1_mbps(self):
-        self.start()
+        control_path = os.path.join(self.dir.name, "control.sock")
+        self.start("--control", control_path)
+        control = Control(control_path)
+        self.addCleanup(control.close)
         port = self.open(57600)
         ph = sdk.Protocol2PacketHandler()
         # Baud Rate 3 is 1 Mbps. A broadcast write has no status: txRxPacket returns once sent.
@@ -154,8 +157,8 @@ class SdkClientTest(unittest.TestCase):
         # A real UART has sent the packet at 57600 before the port closes (close drains output).
         # dxlemu takes the client's rate when it reads the bytes from the PTY, so bytes it has
         # not read yet when setBaudRate reopens the port would count as sent at 1 Mbps and the
-        # servos would not hear them: give it time to read them first.
-        time.sleep(0.05)
+        # servos would not hear them: wait until it has read them (its bytes_in) first.
+        heard(control, len(packet2(sdk.BROADCAST_ID, 0x03, bytes([BAUD_RATE, 0, 3]))))
         self.assertTrue(port.setBaudRate(1000000))
         for dxl_id in (1, 2, 3):
             self.assertEqual(ph.ping(port, dxl_id), (XM430_W350, sdk.COMM_SUCCESS, 0))
