@@ -1,4 +1,4 @@
-// Scale (issue 8 part 3): dxlemu with many servos on one bus, and many ports in one process.
+// Scale: dxlemu with many servos on one bus, and many ports in one process.
 //
 // 1. One bus of 253 XM430-W350 (IDs 0 ~ 252) at 1 Mbit/s, realtime timing. N times each (one at
 //    a time, as a controller does): a Sync Read of Present Position (4 B) listing all 253 IDs,
@@ -98,6 +98,13 @@ constexpr milliseconds kStrayWindow{5};
 constexpr milliseconds kDrain{100};
 
 constexpr double kMedian = 0.5;
+
+/// The name, and the link's file name, of port `index` of the many-ports config: p0, p1, ...
+std::string port_name(std::size_t index) {
+  std::string name = "p";
+  name += std::to_string(index);
+  return name;
+}
 constexpr double kP99 = 0.99;
 constexpr double kPercent = 100.0;
 constexpr double kKibPerMib = 1024.0;
@@ -440,7 +447,7 @@ std::filesystem::path write_config(const TempDir& dir) {
     ids.push_back(id);
   }
   for (std::size_t p = 0; p < kPorts; ++p) {
-    const std::string name = "p" + std::to_string(p);
+    const std::string name = port_name(p);
     ports.push_back({{"name", name},
                      {"link", (dir.path() / name).string()},
                      {"servos", {{{"model", kModel}, {"ids", ids}, {"baud", kBaud}}}}});
@@ -489,7 +496,7 @@ std::vector<std::string> ping_all(const std::vector<int>& fds) {
       }
     }
     if (!ok) {
-      failed.push_back("p" + std::to_string(p));
+      failed.push_back(port_name(p));
     }
   }
   return failed;
@@ -637,7 +644,7 @@ void many_ports(const Options& options, const TempDir& dir, long base_kib) {
   std::vector<Client> clients(kPorts);
   std::vector<int> fds;
   for (std::size_t p = 0; p < kPorts; ++p) {
-    clients[p].fd = bench::open_port((dir.path() / ("p" + std::to_string(p))).string(), kBaud);
+    clients[p].fd = bench::open_port((dir.path() / port_name(p)).string(), kBaud);
     fds.push_back(clients[p].fd);
   }
   std::cerr << "scale: pinging every servo of every port\n";

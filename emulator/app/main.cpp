@@ -138,7 +138,10 @@ int run_ctl(const CtlArguments& ctl) {
 std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
   std::string out;
   for (const auto p : spec.protocols) {
-    out += (out.empty() ? "" : ",") + std::string(p == dxlemu::wire::Protocol::V1 ? "1.0" : "2.0");
+    if (!out.empty()) {
+      out += ',';
+    }
+    out += p == dxlemu::wire::Protocol::V1 ? "1.0" : "2.0";
   }
   return out;
 }

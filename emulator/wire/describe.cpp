@@ -50,7 +50,10 @@ struct Describer {
     field("length", r.length);
     out += " ids=";
     for (std::size_t i = 0; i < r.ids.size(); ++i) {
-      out += (i == 0 ? "" : " ") + std::to_string(r.ids[i]);
+      if (i != 0) {
+        out += ' ';
+      }
+      out += std::to_string(r.ids[i]);
     }
   }
   void operator()(const SyncWrite& s) const {

@@ -45,6 +45,7 @@ std::vector<Bytes> records(const Bytes& file) {
 Bytes with_pseudo_header(std::uint8_t direction, std::uint8_t protocol, std::uint8_t port,
                          const Bytes& line) {
   Bytes out = {app::kPcapPseudoHeaderVersion, direction, protocol, port};
+  out.reserve(out.size() + line.size());
   out.insert(out.end(), line.begin(), line.end());
   return out;
 }

@@ -132,6 +132,7 @@ TEST_CASE("corrupt_crc, flip_bits, truncate_reply, garbage_before, duplicate_rep
     FaultRig f;
     f.add(R"({"action":"garbage_before","data":[1,2,3]})");
     Bytes expected{1, 2, 3};
+    expected.reserve(expected.size() + good.size());
     expected.insert(expected.end(), good.begin(), good.end());
     CHECK(one(f) == expected);
   }
