@@ -32,11 +32,20 @@ TEST_CASE("A Secondary ID group executes RAM writes silently and the ID keeps pr
 }
 
 TEST_CASE("Secondary ID 253 and above is off", "[bus]") {
-  BusRig rig;
-  rig.add("xm430-w350", 1).table().set("secondary_id", 253);
-  rig.send({Protocol::V2, 253 - 1, wire::Write{65, {1}}});
-  rig.run();
-  CHECK(rig.bus.servos()[0]->table().get("led") == 0);
+  // Protocol 1.0, where 253 is a unicast Packet ID, so that only the Secondary ID's cut-off keeps
+  // the packet from the servo; 252, the highest Secondary ID, shows the same packet would work.
+  for (const std::uint8_t secondary : {252, 253}) {
+    INFO("Secondary ID " << int{secondary});
+    BusRig rig;
+    auto& servo = rig.add("xm430-w350", 1);
+    auto& table = servo.table();
+    table.set("protocol_type", 1);
+    servo.commit_deferred();
+    table.set("secondary_id", secondary);
+    rig.send({Protocol::V1, secondary, wire::Write{65, {1}}});  // LED on
+    rig.run();
+    CHECK(table.get("led") == (secondary == 252 ? 1 : 0));
+  }
 }
 
 TEST_CASE("The Bus Watchdog stops a quiet servo and refuses goal writes until it is cleared",
