@@ -1,4 +1,4 @@
-// The physical limit of issue 8 part 2: a pseudo-terminal with a process behind it that answers
+// The physical limit of throughput: a pseudo-terminal with a process behind it that answers
 // without doing any work, to compare dxlemu's round trips with.
 //
 // It opens a PTY as dxlemu does (posix_openpt, raw, its own slave descriptor kept open so that

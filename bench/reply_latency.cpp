@@ -1,4 +1,4 @@
-// Timing fidelity of the real-time driver (issue 8 part 1): how far from its modelled time a reply
+// Timing fidelity of the real-time driver: how far from its modelled time a reply
 // reaches a client on the PTY.
 //
 // For each baud rate the bench starts `dxlemu run` with ten XM430-W350 (IDs 1 ~ 10, factory

@@ -1,4 +1,4 @@
-// Throughput (issue 8 parts 2 and 4): how many round trips per second a client gets from dxlemu
+// Throughput: how many round trips per second a client gets from dxlemu
 // under `--timing fast`, against a bare PTY program that does no work (the physical limit), and
 // what the trace, the capture and the control API cost.
 //

@@ -8,7 +8,8 @@ namespace dxlemu::app {
 
 /// One JSON object on one line, built by appending to a string. The trace writes two lines per
 /// round trip on the bus; building them as nlohmann::ordered_json and dumping them cost about
-/// three times what the round trip itself costs (docs/benchmarks.md "Issue 8").
+/// three times what the round trip itself costs (docs/benchmarks.md "Hot spots removed, before and
+/// after").
 ///
 /// Members come out in the order they are added. Text is escaped as nlohmann::json escapes it
 /// (invalid UTF-8 becomes U+FFFD), numbers are written as nlohmann::json writes them.

@@ -93,7 +93,8 @@ void PtyLink::start(OnBytes on_bytes) {
 void PtyLink::read_more() {
   // Asio tries a read first, which right after a round trip finds nothing (EAGAIN). Waiting for
   // readiness instead (async_wait, then one read) was measured and costs as much: Asio then
-  // re-registers the descriptor with epoll_ctl on every wait (docs/benchmarks.md "Issue 8").
+  // re-registers the descriptor with epoll_ctl on every wait (docs/benchmarks.md "Hot spots
+  // removed, before and after").
   master_.async_read_some(boost::asio::buffer(read_buffer_),
                           [this](const boost::system::error_code& ec, std::size_t n) {
                             if (ec) {

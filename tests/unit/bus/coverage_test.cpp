@@ -888,10 +888,10 @@ TEST_CASE("Sync and Bulk instructions sent to a unicast ID are ignored", "[bus]"
 // ---- Collisions ----
 
 // protocol2.md "ID": "If DYNAMIXELs with the same ID are connected, packet collision and network
-// problems will occur" (protocol1.md "DYNAMIXEL Protocol" alike), and issue 4: "Two servos
-// configured with the same ID both answer and their bytes collide". The bus garbles a unicast
-// reply that way (docs/bus.md "Collisions"); these two tests expect the same for the replies of a
-// broadcast Ping and of a Sync Read slot, where the bus currently lets one or both answer cleanly.
+// problems will occur" (protocol1.md "DYNAMIXEL Protocol" alike): two servos configured with the
+// same ID both answer and their bytes collide. The bus garbles a unicast reply that way
+// (docs/bus.md "Collisions"); these two tests expect the same for the replies of a broadcast Ping
+// and of a Sync Read slot, where the bus currently lets one or both answer cleanly.
 TEST_CASE("Two servos with the same ID collide in a broadcast Ping as in a unicast instruction",
           "[bus]") {
   BusRig rig;
