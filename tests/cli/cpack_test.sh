@@ -1,15 +1,14 @@
 #!/usr/bin/env bash
 # Runs CPack's DEB generator on the build directory's CPackConfig.cmake into a temporary directory
-# and checks the package's name, version, dependencies and contents. Skips (exit 77) without
-# dpkg-deb. Usage: cpack_test.sh CPACK BUILD_DIR VERSION
+# and checks the package's name, version, dependencies and contents. Fails without dpkg-deb. Usage: cpack_test.sh CPACK BUILD_DIR VERSION
 set -uo pipefail
 cpack=${1:?cpack}
 build=${2:?build directory}
 version=${3:?version}
 
 command -v dpkg-deb >/dev/null 2>&1 || {
-  echo "skipped: no dpkg-deb"
-  exit 77
+  echo "FAIL: dpkg-deb not found (Debian package dpkg)"
+  exit 1
 }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -29,21 +29,10 @@ std::uint16_t bitwise_crc(std::span<const std::uint8_t> bytes) {
 
 TEST_CASE("The CRC table equals the one printed in protocol2-crc.md", "[wire][crc]") {
   const auto& table = wire::crc16_table();
-  // Spot values from the page, so this test means something even without the reference folder.
-  CHECK(table[0x00] == 0x0000);
-  CHECK(table[0x01] == 0x8005);
-  CHECK(table[0x02] == 0x800F);
-  CHECK(table[0x40] == 0x8183);
-  CHECK(table[0x80] == 0x8303);
-  CHECK(table[0xC0] == 0x0280);
-  CHECK(table[0xFF] == 0x0202);
-
   const std::filesystem::path page =
       std::filesystem::path(DXLEMU_REFERENCE_DIR) / "protocol2-crc.md";
-  if (!std::filesystem::exists(page)) {
-    WARN("reference folder not found; compared spot values only: " << page);
-    return;
-  }
+  INFO("the reference (../shared/reference beside the checkout) has the page: " << page);
+  REQUIRE(std::filesystem::exists(page));
   // Rows look like "| 0x08 | 0x8033 | 0x0036 | ... |": a row start, then eight entries.
   std::ifstream in(page);
   const std::regex row(R"(^\| 0x([0-9A-F]{2}) \|((?: 0x[0-9A-F]{4} \|){8})\s*$)");
