@@ -4,6 +4,7 @@
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$repo_root"
+require_tool clang-format clang-format "scripts/check_format.sh"
 mapfile -t files < <(find emulator tests bench -type f \( -name '*.cpp' -o -name '*.hpp' \) 2>/dev/null | sort)
 bad=()
 for f in "${files[@]}"; do

@@ -15,3 +15,11 @@ configure_and_build() {
   cmake -S "$repo_root" -B "$dir" "${generator[@]}" "$@" >/dev/null
   cmake --build "$dir" -j "$jobs"
 }
+
+# require_tool COMMAND PACKAGE WHAT: fails, naming the Debian package, when COMMAND is missing.
+# scripts/setup.sh installs every package the checks use; this catches a machine it did not set up.
+require_tool() {
+  command -v "$1" >/dev/null 2>&1 && return 0
+  echo "error: $1 not found: $3 needs it (Debian package $2; scripts/setup.sh installs it)" >&2
+  exit 1
+}

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what dxlemu needs to build and test, from Debian packages only.
+# Installs what dxlemu needs to build and run every check of scripts/test.sh, from Debian
+# packages only (README.md, Requirements, lists the same).
 # Does nothing when everything is already installed. Safe to run again.
 set -euo pipefail
 
@@ -10,7 +11,10 @@ packages=(
   nlohmann-json3-dev  # models, configs, the control API
   catch2              # unit tests (Catch2 v2)
   libcli11-dev        # command line
-  clang-format        # scripts/test.sh refuses unformatted C++
+  clang-format        # scripts/check_format.sh refuses unformatted C++
+  clang-tidy          # scripts/tidy.sh: the checks of .clang-tidy
+  clang               # the sanitizer and fuzz build (clang++ 14)
+  libclang-rt-14-dev  # clang's sanitizer runtimes and libFuzzer
   python3             # end-to-end tests and examples (standard library only)
   python3-serial      # pyserial, for the end-to-end test that drives dxlemu as DynamixelSDK does
   python3-pytest      # the pytest fixture of python/dxlemu is tested with Debian's pytest

@@ -1,16 +1,102 @@
 #!/usr/bin/env bash
-# Runs clang-tidy (the repository's .clang-tidy) over our C++ sources, using build/'s
-# compile_commands.json. Prints nothing but the summary when clean; exits 1 on a finding.
+# Runs clang-tidy (the repository's .clang-tidy) over our C++ sources with the compile database of
+# a build directory (default build/, configured and built if it has none). Every finding is an
+# error: prints the findings and exits 1. A missing clang-tidy, or a file it cannot parse, fails too.
+#
+# A full run takes about 12 CPU-minutes (the checks walk every header a file includes), so by
+# default only the files that can have changed since the commit in scripts/tidy-clean-commit are
+# checked: that commit passed a full run, and a source file is checked again when it, or any
+# header it includes (ninja's dependency log of the build), differs from that commit, committed or
+# not. Everything is checked when .clang-tidy or this script changed, when that commit is not in
+# the history (a shallow clone, rewritten history), or when the build has no ninja dependency log.
+#
+# Usage: scripts/tidy.sh [--full] [BUILD_DIR]
+#   --full  check every file; when everything is clean and committed, write HEAD to
+#           scripts/tidy-clean-commit (commit that file so that later runs start from there)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$repo_root"
-[ -f build/compile_commands.json ] || configure_and_build build -DCMAKE_BUILD_TYPE=RelWithDebInfo
-mapfile -t files < <(find emulator tests/unit tests/support bench -type f -name '*.cpp' | sort)
-# One clang-tidy per file, as many at once as there are cores.
-out=$(printf '%s\0' "${files[@]}" |
-  xargs -0 -n 1 -P "$jobs" clang-tidy -p build --quiet 2>/dev/null | grep -E '(warning|error):' || true)
-if [ -n "$out" ]; then
-  echo "$out"
-  exit 1
+
+full=0
+if [ "${1:-}" = --full ]; then
+  full=1
+  shift
+fi
+build=${1:-build}
+record=scripts/tidy-clean-commit
+require_tool clang-tidy clang-tidy "scripts/tidy.sh"
+[ -f "$build/compile_commands.json" ] || configure_and_build "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo
+mapfile -t all < <(find emulator tests/unit tests/support bench -type f -name '*.cpp' | sort)
+
+# why_full: prints why every file must be checked, or nothing when the changed ones suffice.
+why_full() {
+  [ "$full" -eq 0 ] || { echo "--full"; return; }
+  local base
+  base=$(grep -v '^#' "$record" 2>/dev/null | head -n 1 || true)
+  [ -n "$base" ] || { echo "no commit in $record"; return; }
+  git cat-file -e "$base^{commit}" 2>/dev/null || { echo "$base (in $record) is not in the history"; return; }
+  [ -f "$build/build.ninja" ] || { echo "$build was not built with ninja: no dependency log"; return; }
+  if ! git diff --quiet "$base" -- .clang-tidy scripts/tidy.sh; then
+    echo ".clang-tidy or scripts/tidy.sh changed since $base"
+  fi
+}
+reason=$(why_full)
+
+if [ -n "$reason" ]; then
+  files=("${all[@]}")
+  scope="all ${#all[@]} files ($reason)"
+else
+  base=$(grep -v '^#' "$record" | head -n 1)
+  # Paths changed since the clean commit, in the work tree too, and new files; absolute, as ninja
+  # writes them.
+  changed=$( { git diff --name-only "$base" --; git ls-files --others --exclude-standard; } |
+             sed "s|^|$repo_root/|" | sort -u)
+  # A source file whose object depends on a changed path. ninja -t deps prints each object, then
+  # its source and every header it read, one per indented line. A source the log does not know
+  # (never built) is checked whenever it changed.
+  mapfile -t files < <(ninja -C "$build" -t deps 2>/dev/null | awk -v changed="$changed" \
+      -v ours="$(printf '%s\n' "${all[@]}")" -v root="$repo_root/" '
+    BEGIN { n = split(changed, c, "\n"); for (i = 1; i <= n; ++i) hit[c[i]] = 1 }
+    /^[^ ]/ { source = ""; next }
+    /^    / {
+      path = substr($0, 5)
+      if (source == "") { source = path; known[source] = 1 }
+      if (path in hit) dirty[source] = 1
+    }
+    END {
+      n = split(ours, f, "\n")
+      for (i = 1; i <= n; ++i) {
+        p = root f[i]
+        if ((p in dirty) || ((p in hit) && !(p in known))) print f[i]
+      }
+    }')
+  scope="${#files[@]} of ${#all[@]} files (those that include a change since $base, the last full clean run)"
+fi
+
+echo "clang-tidy: checking $scope"
+if [ ${#files[@]} -gt 0 ]; then
+  # One clang-tidy per file, as many at once as there are cores. xargs exits non-zero when any
+  # of them did: a finding (--warnings-as-errors) or a file that does not compile.
+  log=$(mktemp)
+  trap 'rm -f "$log"' EXIT
+  status=0
+  printf '%s\0' "${files[@]}" |
+    xargs -0 -n 1 -P "$jobs" clang-tidy -p "$build" --quiet --warnings-as-errors='*' >"$log" 2>&1 ||
+    status=$?
+  if [ "$status" -ne 0 ]; then
+    grep -vE '^[0-9]+ warnings? (and [0-9]+ errors? )?generated\.$' "$log" || true
+    echo "clang-tidy: findings or errors above (exit status $status)" >&2
+    exit 1
+  fi
 fi
 echo "clang-tidy: ${#files[@]} files clean"
+
+if [ "$full" -eq 1 ]; then
+  if [ -z "$(git status --porcelain)" ]; then
+    { echo "# A commit at which scripts/tidy.sh --full found nothing: scripts/tidy.sh checks what changed since."
+      git rev-parse HEAD; } >"$record"
+    echo "clang-tidy: wrote $(git rev-parse --short HEAD) to $record: commit it"
+  else
+    echo "clang-tidy: $record not updated: the work tree has uncommitted changes"
+  fi
+fi
