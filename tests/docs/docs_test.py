@@ -242,5 +242,42 @@ class ReadmeRunOptionsTest(unittest.TestCase):
                                              for what, options in gaps.items()))
 
 
+def setup_packages():
+    """The Debian packages scripts/setup.sh installs: the words of its `packages=(...)` array."""
+    text = read(os.path.join(ROOT, "scripts", "setup.sh"))
+    array = re.search(r"^packages=\((.*?)^\)", text, re.M | re.S)
+    if not array:
+        raise AssertionError("scripts/setup.sh has no packages=( ... ) array")
+    return {word for line in array.group(1).splitlines()
+            for word in line.split("#", 1)[0].split()}
+
+
+def readme_requirements():
+    """The package names README.md's "Requirements" section lists in its bullets: the
+    comma-separated names after each bullet's colon, "and" and the parenthesised remarks aside."""
+    text = read(os.path.join(ROOT, "README.md"))
+    section = re.search(r"^## Requirements\n(.*?)(?=^## )", text, re.M | re.S)
+    if not section:
+        raise AssertionError("README.md has no section \"## Requirements\"")
+    names = set()
+    for bullet in re.findall(r"^- [^:]*:(.*?)(?=^- |^$)", section.group(1), re.M | re.S):
+        bullet = re.sub(r"\([^)]*\)", "", bullet.replace("`", ""))
+        for part in re.split(r",|\band\b|;", bullet):
+            if part.strip(" .\n"):
+                names.add(part.strip(" .\n"))
+    if not names:
+        raise AssertionError("README.md's Requirements list no packages")
+    return names
+
+
+class ReadmeRequirementsTest(unittest.TestCase):
+    def test_readme_lists_exactly_what_setup_installs(self):
+        installed, listed = setup_packages(), readme_requirements()
+        self.assertEqual(sorted(installed - listed), [],
+                         "installed by scripts/setup.sh, not in README.md's Requirements")
+        self.assertEqual(sorted(listed - installed), [],
+                         "in README.md's Requirements, not installed by scripts/setup.sh")
+
+
 if __name__ == "__main__":
     unittest.main()
