@@ -4,9 +4,10 @@
 #   2. build/: g++, Release (what users and packagers build), warnings as errors. The unit tests,
 #      the command-line, model and docs checks, and the tests that need a plain build;
 #   3. clang-tidy over our sources (build/'s compile database);
-#   4. build/san: clang++, AddressSanitizer + UndefinedBehaviorSanitizer + libFuzzer's coverage
-#      instrumentation, -O1, warnings as errors. The whole suite again, the end-to-end suites
-#      (e2e, Python package, examples, reliability) included, and every fuzz target's smoke run.
+#   4. build/san: clang++, AddressSanitizer + UndefinedBehaviorSanitizer, libFuzzer's coverage
+#      instrumentation where the fuzz targets need it, -O1, warnings as errors. The whole suite
+#      again, the end-to-end suites (e2e, Python package, examples, reliability) included, and
+#      every fuzz target's smoke run.
 # A tool that is missing fails its step, naming the Debian package; nothing is skipped.
 # Exits non-zero on the first failure and prints each step's time (docs/testing.md).
 set -euo pipefail
@@ -55,8 +56,10 @@ step "clang-tidy"
 bash scripts/tidy.sh build
 
 # One clang build serves the sanitizer suite and the fuzz smoke runs: everything is compiled with
-# -fsanitize=address,undefined and libFuzzer's instrumentation (fuzzer-no-link); the fuzz targets
-# alone link libFuzzer's main. -O1 keeps the suite fast and the reports' stacks exact.
+# -fsanitize=address,undefined, what the fuzz targets link also with libFuzzer's instrumentation
+# (fuzzer-no-link); the fuzz targets alone link libFuzzer's main. -O1 keeps the suite fast, line
+# tables keep the reports' stacks exact; the unit tests' own sources, half of the compile time,
+# build at -O0 (DXLEMU_UNIT_TEST_OPTIONS).
 # Every report aborts the process that made it (a leak at exit too), so a test fails on it: the
 # unit tests and the app.* checks by their exit status, and a daemon started by the end-to-end
 # tests through DXLEMU_CHECK_EXIT. DXLEMU_TIMEOUT_SCALE makes the daemon's start and stop
@@ -64,7 +67,8 @@ bash scripts/tidy.sh build
 step "build/san: clang++ ASan + UBSan + fuzzer instrumentation"
 require_tool clang++ clang "the sanitizer and fuzz build"
 configure_and_build build/san -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
-  "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DDXLEMU_SANITIZE=ON -DDXLEMU_FUZZ=ON -DDXLEMU_WERROR=ON
+  "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" -DDXLEMU_UNIT_TEST_OPTIONS=-O0 \
+  -DDXLEMU_SANITIZE=ON -DDXLEMU_FUZZ=ON -DDXLEMU_WERROR=ON
 step "build/san: tests and fuzz smoke runs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   DXLEMU_CHECK_EXIT=1 DXLEMU_TIMEOUT_SCALE=2 \
