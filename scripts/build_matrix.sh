@@ -3,7 +3,7 @@
 # warnings as errors: what a packager or a user with either compiler may build. Each build goes
 # to build/matrix/COMPILER-TYPE. Not run by CI, which builds g++ Release and a clang sanitizer
 # build (scripts/test.sh); run it after a change that may warn only at some optimisation level
-# or with one compiler, and before a release. About 30 minutes on 2 cores.
+# or with one compiler, and before a release. About 25 minutes on 2 cores.
 # Usage: scripts/build_matrix.sh [BUILD_TYPE...]   (default: Debug Release RelWithDebInfo MinSizeRel)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
