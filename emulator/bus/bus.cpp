@@ -83,7 +83,11 @@ constexpr bool kIsGroupWrite =
 
 Bus::Bus(sim::Scheduler& scheduler, ByteLink& link) : scheduler_(scheduler), link_(link) {}
 
-Bus::~Bus() = default;
+Bus::~Bus() {
+  if (injector_ != nullptr) {
+    injector_->unsubscribe(fault_subscription_);
+  }
+}
 
 SimDuration Bus::line_time(std::size_t bytes, std::uint32_t bps) const {
   return timing_ == ReplyTiming::Modelled ? wire_time(bytes, bps) : SimDuration{0};
@@ -170,8 +174,14 @@ void Bus::power_on(model::Servo& servo) {
 }
 
 void Bus::set_faults(faults::Injector* injector, std::string port) {
+  if (injector_ != nullptr) {
+    injector_->unsubscribe(fault_subscription_);
+  }
   injector_ = injector;
   port_ = std::move(port);
+  if (injector_ != nullptr) {
+    fault_subscription_ = injector_->subscribe([this] { refresh_faults(); });
+  }
   forget_servo_faults();
   refresh_faults();
 }

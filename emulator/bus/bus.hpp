@@ -79,11 +79,9 @@ class Bus {
   void set_observer(LineObserver observer) { observer_ = std::move(observer); }
 
   /// Applies the rules of `injector` (owned by the caller; must outlive the bus, or be replaced
-  /// by nullptr first) to this bus, whose port rules name `port` (docs/faults.md).
+  /// by nullptr first) to this bus, whose port rules name `port` (docs/faults.md). The bus follows
+  /// every later change of the rules by itself.
   void set_faults(faults::Injector* injector, std::string port);
-  /// Brings every servo's injected hardware errors in line with the rules at the scheduler's time
-  /// and schedules the next change a rule's time window makes. Call after rules change.
-  void refresh_faults();
 
   /// Brings every servo's motion up to the scheduler's time (before reading a servo from
   /// outside the bus, e.g. the control API).
@@ -126,6 +124,9 @@ class Bus {
   /// whether they were dropped.
   faults::ReplyEffects mangle(std::vector<std::uint8_t> ids, std::vector<std::uint8_t>& bytes,
                               wire::Protocol protocol);
+  /// Brings every servo's injected hardware errors in line with the rules at the scheduler's time
+  /// and schedules the next change a rule's time window makes.
+  void refresh_faults();
   /// Sets every servo's injected hardware errors from the rules at `now`.
   void apply_hardware_faults(sim::SimTime now);
   /// Runs every servo's motion up to `now`.
@@ -180,6 +181,7 @@ class Bus {
   LineObserver observer_;
   faults::Injector* injector_ = nullptr;
   std::string port_;  // this bus's name in fault rules
+  std::uint64_t fault_subscription_ = 0;
   Current current_;
   std::optional<sim::Scheduler::EventId> fault_window_;  // next change of a hardware_error rule
 };

@@ -8,15 +8,6 @@ namespace dxlemu::control {
 
 namespace {
 
-// Every bus brings its servos' injected hardware errors in line with the rules now.
-void refresh(Target& target) {
-  for (const auto& name : target.port_names()) {
-    if (bus::Bus* bus = target.bus(name)) {
-      bus->refresh_faults();
-    }
-  }
-}
-
 std::string rule_ids(const faults::Injector& injector) {
   std::vector<std::string> ids;
   for (const auto& e : injector.rules()) {
@@ -50,7 +41,6 @@ faults::Rule rule_of(Target& target, const ordered_json* given) {
 ordered_json fault_add(Target& target, const Args& args) {
   faults::Rule rule = rule_of(target, args.value("rule"));
   const std::uint64_t id = target.faults().add(std::move(rule), target.now());
-  refresh(target);
   return {{"rule", id}};
 }
 
@@ -73,13 +63,11 @@ ordered_json fault_remove(Target& target, const Args& args) {
   if (id < 1 || !target.faults().remove(static_cast<std::uint64_t>(id))) {
     refuse("no fault rule " + std::to_string(id) + " (" + rule_ids(target.faults()) + ")");
   }
-  refresh(target);
   return {{"rule", id}};
 }
 
 ordered_json fault_clear(Target& target, const Args& /*args*/) {
   const std::size_t removed = target.faults().clear();
-  refresh(target);
   return {{"removed", removed}};
 }
 

@@ -32,8 +32,8 @@ class Target {
   virtual bool manual_clock() const = 0;
   /// Moves simulated time forward by `d`, running everything due (manual timing only).
   virtual void step_clock(sim::SimDuration d) = 0;
-  /// The fault rules every bus applies (docs/faults.md). The target owns them; after changing
-  /// them, call Bus::refresh_faults() on every bus.
+  /// The fault rules every bus applies (docs/faults.md). The target owns them; every bus follows
+  /// a change of them at once.
   virtual faults::Injector& faults() = 0;
   /// Sends every packet of `ports` (all ports when empty) to connection `client` as trace events
   /// from now on, replacing an earlier subscription of that client (trace.subscribe).

@@ -41,21 +41,40 @@ std::uint64_t Injector::add(Rule rule, sim::SimTime now) {
   const std::uint64_t id = next_id_++;
   sim::RandomStream* stream = &rng_.stream("fault/" + std::to_string(id));
   rules_.push_back({id, std::move(rule), now, 0, 0, stream});
-  ++version_;
+  changed();
   return id;
 }
 
 bool Injector::remove(std::uint64_t id) {
   const auto removed = std::erase_if(rules_, [id](const Entry& e) { return e.id == id; });
-  version_ += removed;
+  if (removed != 0) {
+    changed();
+  }
   return removed != 0;
 }
 
 std::size_t Injector::clear() {
   const std::size_t n = rules_.size();
   rules_.clear();
-  ++version_;
+  changed();
   return n;
+}
+
+std::uint64_t Injector::subscribe(std::function<void()> listener) {
+  listeners_.emplace_back(next_listener_, std::move(listener));
+  return next_listener_++;
+}
+
+void Injector::unsubscribe(std::uint64_t key) {
+  std::erase_if(listeners_, [key](const auto& l) { return l.first == key; });
+}
+
+void Injector::changed() {
+  // A copy: a listener may subscribe or unsubscribe while it is called.
+  const auto listeners = listeners_;
+  for (const auto& [key, listener] : listeners) {
+    listener();
+  }
 }
 
 bool Injector::fires(Entry& entry, const PacketFacts& facts) {

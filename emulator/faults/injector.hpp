@@ -82,8 +82,12 @@ class Injector {
   const std::vector<Entry>& rules() const { return rules_; }
   /// The seed the random choices come from.
   std::uint64_t seed() const { return rng_.seed(); }
-  /// Changes whenever rules are added or removed (so buses know to refresh servo states).
-  std::uint64_t version() const { return version_; }
+  /// Calls `listener` after every change of the rules (add, remove, clear), so that whoever
+  /// applies them (each bus's fault state) follows at once, whoever changed them. Returns the
+  /// subscription's key for unsubscribe().
+  std::uint64_t subscribe(std::function<void()> listener);
+  /// Ends subscription `key`; nothing happens when there is none.
+  void unsubscribe(std::uint64_t key);
 
   /// Hook: an instruction packet was heard on `facts.port`.
   InstructionEffects instruction(const PacketFacts& facts);
@@ -112,7 +116,10 @@ class Injector {
   sim::Rng rng_;
   std::vector<Entry> rules_;
   std::uint64_t next_id_ = 1;
-  std::uint64_t version_ = 0;
+  /// Calls every subscriber (after a change of the rules).
+  void changed();
+  std::vector<std::pair<std::uint64_t, std::function<void()>>> listeners_;
+  std::uint64_t next_listener_ = 1;
 };
 
 /// True when `match` selects `facts` (port, any of its servos, instruction, overlapping span).

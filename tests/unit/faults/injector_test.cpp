@@ -129,11 +129,16 @@ TEST_CASE("hardware_error rules give each servo its set of errors, windows inclu
   CHECK(injector.next_state_change(t0) == t0 + 5ms);
   CHECK(injector.next_state_change(t0 + 5ms) == t0 + 8ms);
   CHECK(injector.next_state_change(t0 + 8ms) == std::nullopt);
-  const auto version = injector.version();
+  int changes = 0;
+  const auto subscription = injector.subscribe([&] { ++changes; });
   CHECK(injector.remove(late));
   CHECK_FALSE(injector.remove(late));
-  CHECK(injector.version() != version);
+  CHECK(changes == 1);
   CHECK(injector.clear() == 1);
+  CHECK(changes == 2);
+  injector.unsubscribe(subscription);
+  injector.add(faults::parse_rule(nlohmann::json::parse(R"({"action":"drop_reply"})")), t0);
+  CHECK(changes == 2);
   CHECK(injector.hardware_faults("dxl0", 3, t0) == 0);
 }
 
