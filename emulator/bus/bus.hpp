@@ -9,7 +9,9 @@
 
 #include "bus/bus_stats.hpp"
 #include "bus/byte_link.hpp"
+#include "bus/read_request.hpp"
 #include "faults/injector.hpp"
+#include "faults/port_faults.hpp"
 #include "model/servo.hpp"
 #include "sim/scheduler.hpp"
 #include "wire/frame.hpp"
@@ -81,74 +83,77 @@ class Bus {
   /// Applies the rules of `injector` (owned by the caller; must outlive the bus, or be replaced
   /// by nullptr first) to this bus, whose port rules name `port` (docs/faults.md). The bus follows
   /// every later change of the rules by itself.
-  void set_faults(faults::Injector* injector, std::string port);
+  void set_faults(faults::Injector* injector, std::string port) {
+    faults_.set_rules(injector, std::move(port));
+  }
 
   /// Brings every servo's motion up to the scheduler's time (before reading a servo from
   /// outside the bus, e.g. the control API).
   void catch_up() { catch_up(scheduler_.now()); }
   /// Counters since the bus was made.
-  const BusStats& stats() const { return stats_; }
+  BusStats stats() const;
 
  private:
   struct Station;  // a servo and its bus-side state
   Station* station_of(const model::Servo& servo) const;
   struct Outgoing;
+  /// A servo that hears the packet being handled, and how (the fault hooks' answer).
+  struct Listener {
+    Station* station;
+    faults::Hearing hearing;
+  };
+  /// The packet being handled: what was heard, when it ended on the line, and which servos hear
+  /// it (on the line at its baud and protocol, awake, not silenced by a fault), in bus order.
+  struct Packet {
+    faults::HeardPacket heard;
+    std::vector<Listener> listening;
+  };
   struct Reply {
     Station* station;
     model::ServoResponse response;
     std::vector<std::uint8_t> bytes;
+    sim::SimDuration slow{0};  // injected extra processing time
   };
 
-  /// What the packet being handled is, for the fault hooks. Meaningful only while a packet is
-  /// handled (the fault hooks run synchronously inside on_frame and on_bad_check).
-  struct Current {
-    std::uint8_t instruction = 0;
-    const wire::InstructionPacket* packet = nullptr;  // nullptr when it could not be decoded
-  };
-
-  void handle(const std::vector<wire::FramerEvent>& events, std::uint32_t client_bps);
+  // Framing (bus.cpp).
+  void handle(const std::vector<wire::FramerEvent>& events);
   /// Cancels every reply not yet delivered and counts a collision, if there was any.
   void drop_pending_replies();
-  /// Clears the previous packet's servo faults (before the next packet is heard).
-  void forget_servo_faults();
-  /// Fault hooks when a packet with `packet_id` and `protocol` is heard: decides for each
-  /// servo it is for whether it hears it (silence, silence_until_reboot) and how slowly.
-  void hear(wire::Protocol protocol, std::uint8_t packet_id, std::uint32_t client_bps,
-            sim::SimTime end);
-  /// Fault facts about the current packet, for the servos with `ids`.
-  faults::PacketFacts facts(std::vector<std::uint8_t> ids, sim::SimTime at) const;
-  /// eeprom_busy: after `station` wrote `data` at `address`, it may stay deaf for a while.
-  void after_write(Station& station, std::uint16_t address, std::span<const std::uint8_t> data,
-                   sim::SimTime end);
-  /// Applies the reply faults to `bytes` from the servos with `ids`; returns the extra delay and
-  /// whether they were dropped.
-  faults::ReplyEffects mangle(std::vector<std::uint8_t> ids, std::vector<std::uint8_t>& bytes,
-                              wire::Protocol protocol);
-  /// Brings every servo's injected hardware errors in line with the rules at the scheduler's time
-  /// and schedules the next change a rule's time window makes.
-  void refresh_faults();
-  /// Sets every servo's injected hardware errors from the rules at `now`.
-  void apply_hardware_faults(sim::SimTime now);
+  void schedule_expiry();
   /// Runs every servo's motion up to `now`.
   void catch_up(sim::SimTime now);
-  void schedule_expiry(std::uint32_t client_bps);
-  void rearm_watchdogs(wire::Protocol protocol, std::uint32_t client_bps, sim::SimTime now);
-  void on_frame(const wire::Frame& frame, std::uint32_t client_bps);
-  void on_bad_check(const wire::FramingError& error, sim::SimTime line_end,
-                    std::uint32_t client_bps);
-  std::vector<Station*> listeners(wire::Protocol protocol, std::uint32_t client_bps,
-                                  sim::SimTime now);
-  std::vector<Station*> addressed(const std::vector<Station*>& listening, std::uint8_t id) const;
-  void single(const wire::InstructionPacket& packet, sim::SimTime line_end,
-              std::uint32_t client_bps);
-  void group_read(const wire::InstructionPacket& packet, sim::SimTime line_end,
-                  std::uint32_t client_bps);
-  void group_write(const wire::InstructionPacket& packet, sim::SimTime line_end,
-                   std::uint32_t client_bps);
+  void rearm_watchdogs(const Packet& packet);
+  void disarm_watchdog(Station& station);
+
+  // Who hears a packet (bus_hearing.cpp).
+  /// The packet as the servos on the line meet it; no fault hook has run yet.
+  Packet arrival(wire::Protocol protocol, std::uint8_t id, std::uint8_t instruction,
+                 const wire::InstructionPacket* decoded, sim::SimTime end) const;
+  /// The servo hook: drops from `packet.listening` the servos it is for that a fault silences,
+  /// and notes how the others take it.
+  void hear(Packet& packet);
+  /// The IDs a packet is for, as the instruction hook matches them.
+  static std::vector<std::uint8_t> fault_ids(const Packet& packet);
+  /// The listeners whose ID is `id`.
+  static std::vector<const Listener*> addressed(const Packet& packet, std::uint8_t id);
+  void on_frame(const wire::Frame& frame);
+  void on_bad_check(const wire::FramingError& error);
+  /// A packet with a broken CRC or checksum (`instruction`: its unverified instruction byte).
+  void answer_bad_check(Packet& packet, std::optional<std::uint8_t> instruction);
+  void refuse(const Packet& packet, const wire::DecodeError& error);
+
+  // What servos do with it (bus_instructions.cpp).
+  void single(const Packet& packet);
+  void group_read(const Packet& packet);
+  void fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
+                 const std::vector<std::vector<Reply>>& answered);
+  void group_write(const Packet& packet);
+
+  // Replies (bus_replies.cpp).
   /// The replies that go out in one time slot: normally one; several when servos share an ID,
   /// and then their bytes collide.
   using Slot = std::vector<Reply>;
-  void answer(const std::vector<Slot>& slots, sim::SimTime start_after);
+  void answer(const Packet& packet, const std::vector<Slot>& slots, sim::SimTime start_after);
   /// A servo whose deferred effects apply when a reply goes out, and whether it then reboots.
   struct Settlement {
     Station* station;
@@ -157,6 +162,9 @@ class Bus {
   void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol,
                std::vector<Settlement> settlements, bool is_reply = true);
   void settle(Station& station, bool reboot, sim::SimTime at);
+  /// Reboots `station`'s servo at `at`: it is silent while it boots.
+  void restart(Station& station, sim::SimTime at);
+  Reply reply_of(const Listener& listener, model::ServoResponse response) const;
   std::vector<std::uint8_t> status_bytes(const Station& station,
                                          const model::ServoResponse& response) const;
   /// The protocol a station's status packets use (as it speaks when the instruction arrives).
@@ -164,8 +172,9 @@ class Bus {
   /// Wire time of `bytes` at `bps`, or zero under ReplyTiming::Immediate.
   sim::SimDuration line_time(std::size_t bytes, std::uint32_t bps) const;
   /// When an instruction's last byte has crossed the line.
-  sim::SimTime line_end(const wire::Frame& frame, std::uint32_t bps) const;
-  /// A servo's processing time plus its Return Delay Time, or zero under Immediate.
+  sim::SimTime line_end(const wire::Frame& frame) const;
+  /// A servo's processing time plus its Return Delay Time (zero under Immediate), plus any
+  /// injected delay.
   sim::SimDuration turnaround(const Reply& reply) const;
 
   sim::Scheduler& scheduler_;
@@ -176,14 +185,12 @@ class Bus {
   wire::Framer v2_framer_{wire::Protocol::V2};
   std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
   std::optional<sim::Scheduler::EventId> expiry_;    // the framers' inter-byte timeout
+  /// The client's serial rate as of its last write: the rate of the bytes being framed.
+  std::uint32_t client_bps_ = 0;
   BusStats stats_;
   ReplyTiming timing_ = ReplyTiming::Modelled;
   LineObserver observer_;
-  faults::Injector* injector_ = nullptr;
-  std::string port_;  // this bus's name in fault rules
-  std::uint64_t fault_subscription_ = 0;
-  Current current_;
-  std::optional<sim::Scheduler::EventId> fault_window_;  // next change of a hardware_error rule
+  faults::PortFaults faults_{scheduler_};
 };
 
 }  // namespace dxlemu::bus

@@ -280,6 +280,19 @@ bool ControlTable::touches_eeprom(std::uint16_t address, std::size_t length) con
   return false;
 }
 
+std::size_t ControlTable::eeprom_bytes_holding(std::uint16_t address,
+                                               std::span<const std::uint8_t> data) const {
+  std::size_t holding = 0;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const std::size_t a = address + i;
+    holding += a < image_.size() && touches_eeprom(static_cast<std::uint16_t>(a), 1) &&
+                       image_[a] == data[i]
+                   ? 1
+                   : 0;
+  }
+  return holding;
+}
+
 bool ControlTable::eeprom_locked() const {
   if (eeprom_lock_) {
     return eeprom_lock_();

@@ -64,6 +64,10 @@ class ControlTable {
   /// True when any of `length` bytes from `address` belongs to an EEPROM item.
   bool touches_eeprom(std::uint16_t address, std::size_t length) const;
 
+  /// How many of the bytes of `data`, written from `address`, are EEPROM bytes that now hold
+  /// what was written (a refused write leaves them as they were: they count only if equal).
+  std::size_t eeprom_bytes_holding(std::uint16_t address, std::span<const std::uint8_t> data) const;
+
   /// Device side: the value of an item, bypassing hooks.
   std::int64_t get(std::size_t item) const;
   /// Device side: the value of the item with `key`. Throws std::out_of_range for an unknown key.

@@ -439,4 +439,15 @@ void Servo::reboot() {
   motion_.after_reboot();
 }
 
+sim::SimDuration Servo::boot_time() const {
+  return std::chrono::milliseconds(spec().timing.boot_ms);
+}
+
+void Servo::power_off() {
+  if (items_.torque_enable) {
+    table_.set(*items_.torque_enable, 0);
+  }
+  motion_.wake();
+}
+
 }  // namespace dxlemu::model

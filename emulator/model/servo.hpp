@@ -119,6 +119,13 @@ class Servo {
   /// to 2.0, as with no RC signal at boot).
   void reboot();
 
+  /// How long the servo is silent after a reboot or power-on while it boots (its model's timing).
+  sim::SimDuration boot_time() const;
+
+  /// Its power is cut (unplugged): the motor gives no torque. The servo keeps its table until it
+  /// is powered on again, which is a reboot().
+  void power_off();
+
   /// True when the last Control Table Backup store succeeded and has not been lost.
   bool has_backup() const { return backup_.has_value(); }
 

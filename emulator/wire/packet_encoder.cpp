@@ -13,6 +13,9 @@ namespace {
 
 constexpr std::uint8_t kHeaderByte = 0xFF;
 constexpr std::uint8_t kV2HeaderByte3 = 0xFD;
+constexpr std::size_t kFastBlockOverhead = 4;  // error, ID, CRC_L, CRC_H
+// Header, ID and LENGTH, then the instruction byte.
+constexpr std::size_t kFastHeadBytes = 8;
 constexpr std::uint8_t kV2Reserved = 0x00;
 constexpr std::size_t kV1LengthOverhead = 2;  // instruction + checksum
 constexpr std::size_t kV2CrcBytes = 2;
@@ -81,12 +84,22 @@ std::vector<std::uint8_t> encode_status(const StatusPacket& status) {
   return encode_packet(Protocol::V2, status.id, to_byte(InstructionCode::Status), params);
 }
 
+std::optional<std::uint16_t> fast_reply_length(std::span<const std::size_t> data_sizes) {
+  // The instruction byte and the blocks; the packet's CRC is the last block's CRC.
+  std::size_t length = 1;
+  for (const std::size_t size : data_sizes) {
+    length += kFastBlockOverhead + size;
+    if (length > std::numeric_limits<std::uint16_t>::max()) {
+      return std::nullopt;
+    }
+  }
+  return static_cast<std::uint16_t>(length);
+}
+
 std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply) {
-  constexpr std::size_t kBlockOverhead = 4;  // error, ID, CRC_L, CRC_H
-  // LENGTH: the instruction byte and the blocks; the packet's CRC is the last block's CRC.
   std::size_t length = 1;
   for (const FastReplyBlock& block : reply.blocks) {
-    length += kBlockOverhead + block.data.size();
+    length += kFastBlockOverhead + block.data.size();
   }
   std::vector<std::uint8_t> packet = v2_head(kBroadcastId, length);
   packet.push_back(to_byte(InstructionCode::Status));
@@ -102,6 +115,16 @@ std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply) {
     append_crc(packet, crc);
     crc = crc16_update(crc, std::span(packet).last(kV2CrcBytes));
   }
+  return packet;
+}
+
+std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply, std::size_t blocks_sent) {
+  std::vector<std::uint8_t> packet = encode_fast_reply(reply);
+  std::size_t sent = kFastHeadBytes;
+  for (std::size_t i = 0; i < blocks_sent && i < reply.blocks.size(); ++i) {
+    sent += kFastBlockOverhead + reply.blocks[i].data.size();
+  }
+  packet.resize(sent);
   return packet;
 }
 

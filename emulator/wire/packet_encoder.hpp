@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -23,5 +24,14 @@ std::vector<std::uint8_t> encode_status(const StatusPacket& status);
 /// Builds the combined Fast Sync/Bulk Read reply: Packet ID 0xFE, each block followed by the
 /// running CRC of the packet so far, the last one being the packet's CRC; never stuffed.
 std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply);
+
+/// The Fast reply `reply` as it reaches the client when only its first `blocks_sent` devices
+/// answered (the chain broke after them): LENGTH still announces every block, and the bytes stop
+/// after the last block sent.
+std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply, std::size_t blocks_sent);
+
+/// The LENGTH a Fast reply announces for blocks carrying `data_sizes` bytes each, or nullopt when
+/// that does not fit its 16 bits (then no device can send the reply).
+std::optional<std::uint16_t> fast_reply_length(std::span<const std::size_t> data_sizes);
 
 }  // namespace dxlemu::wire

@@ -1,0 +1,191 @@
+// What the addressed servos do with an instruction: a single-target instruction (or a broadcast
+// one), and the Sync/Bulk instructions that list their devices, with the chained and the Fast
+// replies they ask for (protocol1.md, protocol2.md; rules in docs/bus.md).
+#include <algorithm>
+
+#include "bus/bus.hpp"
+#include "bus/bus_station.hpp"
+#include "bus/collision.hpp"
+#include "wire/packet_encoder.hpp"
+
+namespace dxlemu::bus {
+
+using sim::SimTime;
+
+void Bus::single(const Packet& packet) {
+  const wire::InstructionPacket& instruction = *packet.heard.decoded;
+  const SimTime end = packet.heard.end;
+  const bool broadcast = instruction.id == wire::kBroadcastId;
+  std::vector<std::pair<const Listener*, model::Addressing>> targets;
+  for (const Listener& l : packet.listening) {
+    const model::Servo& servo = *l.station->servo;
+    if (broadcast) {
+      targets.emplace_back(&l, model::Addressing::Broadcast);
+    } else if (servo.id() == instruction.id) {
+      targets.emplace_back(&l, model::Addressing::Unicast);
+    } else if (servo.secondary_id() == instruction.id) {
+      // The ID takes priority, but the group of that Secondary ID executes too, silently.
+      targets.emplace_back(&l, model::Addressing::Secondary);
+    }
+  }
+  // Broadcast Ping: every servo answers, in ascending ID order (protocol2.md "Ping" Example 2).
+  std::stable_sort(targets.begin(), targets.end(), [](const auto& a, const auto& b) {
+    return a.first->station->servo->id() < b.first->station->servo->id();
+  });
+  std::vector<Reply> replies;
+  const auto* write = std::get_if<wire::Write>(&instruction.instruction);
+  for (const auto& [l, addressing] : targets) {
+    Station& s = *l->station;
+    model::ServoResponse r = s.servo->execute(instruction, addressing);
+    if (write != nullptr) {
+      faults_.wrote(packet.heard, s.index, write->address, write->data);
+    }
+    if (r.reply && l->hearing.answers) {
+      replies.push_back(reply_of(*l, std::move(r)));
+    } else {
+      settle(s, r.reboot_after, end);
+    }
+  }
+  // Protocol 2.0 chains broadcast Ping replies, one slot per ID (servos sharing an ID collide in
+  // theirs); Protocol 1.0 defines no order, so 1.0 servos answer a broadcast Ping at once and
+  // collide when there are several. A unicast instruction has one slot (docs/bus.md).
+  std::vector<Slot> slots;
+  for (Reply& r : replies) {
+    const bool new_slot =
+        slots.empty() || (broadcast && instruction.protocol == wire::Protocol::V2 &&
+                          slots.back().front().station->servo->id() != r.station->servo->id());
+    if (new_slot) {
+      slots.emplace_back();
+    }
+    slots.back().push_back(std::move(r));
+  }
+  answer(packet, slots, end);
+}
+
+void Bus::group_read(const Packet& packet) {
+  if (packet.heard.id != wire::kBroadcastId) {
+    return;  // "The Packet ID must be 0xFE": a servo ignores a Sync/Bulk Read sent to its own ID
+  }
+  const ReadRequest request = read_request(*packet.heard.decoded);
+  // A Fast reply announces every listed device's block in one 16-bit LENGTH: a request for more
+  // than that can announce has no reply any device could send, so it goes unanswered.
+  if (request.fast) {
+    std::vector<std::size_t> sizes;
+    for (const ReadSlot& slot : request.slots) {
+      sizes.push_back(slot.length);
+    }
+    if (!wire::fast_reply_length(sizes)) {
+      return;
+    }
+  }
+  std::vector<Slot> answered;  // one per listed device that answers, in list order
+  for (const ReadSlot& slot : request.slots) {
+    std::vector<const Listener*> matches = addressed(packet, slot.id);
+    std::erase_if(matches, [&](const Listener* l) {
+      const model::Servo& servo = *l->station->servo;
+      return !servo.replies_to(true) || (request.fast && !servo.supports_fast_read()) ||
+             (request.v1_bulk && !servo.supports_v1_bulk_read());
+    });
+    // Each device waits for the status of the one before it (protocol1.md "Bulk Read"): when a
+    // listed device does not answer, the ones after it wait in vain and stay silent.
+    if (matches.empty()) {
+      break;
+    }
+    Slot& out = answered.emplace_back();
+    for (const Listener* l : matches) {  // servos sharing the ID all answer, and collide
+      model::ServoResponse r = l->station->servo->read_part(slot.address, slot.length);
+      if (request.fast) {
+        r.params.resize(slot.length, 0);  // a failed read still fills its block (docs/bus.md)
+        out.push_back({l->station, std::move(r), {}, l->hearing.slow});
+      } else {
+        out.push_back(reply_of(*l, std::move(r)));
+      }
+    }
+  }
+  if (answered.empty()) {
+    return;
+  }
+  if (request.fast) {
+    fast_read(packet, request.slots, answered);
+  } else {
+    answer(packet, answered, packet.heard.end);
+  }
+}
+
+void Bus::fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
+                    const std::vector<Slot>& answered) {
+  // Fast Sync/Bulk Read: one packet from ID 0xFE, charged one processing time and one Return
+  // Delay Time (the first device's). If the chain broke, LENGTH still announces every listed
+  // device and the packet stops after the last block sent: the client sees it cut short. Where
+  // servos share an ID, each sends its own version of the packet at once: they collide.
+  std::size_t versions = 0;
+  for (const Slot& slot : answered) {
+    versions = std::max(versions, slot.size());
+    stats_.id_conflicts += slot.size() > 1 ? 1 : 0;
+  }
+  std::vector<std::vector<std::uint8_t>> packets;
+  for (std::size_t v = 0; v < versions; ++v) {
+    wire::FastReply reply;
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      if (i < answered.size()) {
+        const Reply& r = answered[i][std::min(v, answered[i].size() - 1)];
+        reply.blocks.push_back({r.response.error, slots[i].id, r.response.params});
+      } else {
+        reply.blocks.push_back({0, slots[i].id, std::vector<std::uint8_t>(slots[i].length, 0)});
+      }
+    }
+    packets.push_back(wire::encode_fast_reply(reply, answered.size()));
+  }
+  const Reply& first = answered.front().front();
+  std::vector<Settlement> settlements;
+  std::vector<std::uint8_t> ids;
+  for (const Slot& slot : answered) {
+    for (const Reply& r : slot) {
+      settlements.push_back({r.station, false});
+      ids.push_back(r.station->servo->id());
+    }
+  }
+  std::vector<std::uint8_t> bytes = collide(packets);
+  const std::size_t sent_size = bytes.size();
+  const faults::ReplyEffects effects =
+      faults_.reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
+  const SimTime start = packet.heard.end + turnaround(first) + effects.delay;
+  const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(),
+                                              first.station->servo->baud_bps());
+  send_at(std::move(bytes), delivered, wire::Protocol::V2, std::move(settlements));
+}
+
+void Bus::group_write(const Packet& packet) {
+  if (packet.heard.id != wire::kBroadcastId) {
+    return;  // "The Packet ID must be 0xFE"
+  }
+  auto write_to = [&](std::uint8_t id, std::uint16_t address,
+                      const std::vector<std::uint8_t>& data) {
+    for (const Listener* l : addressed(packet, id)) {
+      Station& s = *l->station;
+      s.servo->write_part(address, data);
+      faults_.wrote(packet.heard, s.index, address, data);
+      settle(s, false, packet.heard.end);
+    }
+  };
+  std::vector<std::uint8_t> done;  // Bulk Write: one write per ID, the first listed
+  std::visit(
+      [&](const auto& ins) {
+        using T = std::decay_t<decltype(ins)>;
+        if constexpr (std::is_same_v<T, wire::SyncWrite>) {
+          for (const wire::SyncWriteTarget& t : ins.targets) {
+            write_to(t.id, ins.address, t.data);
+          }
+        } else if constexpr (std::is_same_v<T, wire::BulkWrite>) {
+          for (const wire::BulkWriteTarget& t : ins.targets) {
+            if (std::find(done.begin(), done.end(), t.id) == done.end()) {
+              done.push_back(t.id);
+              write_to(t.id, t.address, t.data);
+            }
+          }
+        }
+      },
+      packet.heard.decoded->instruction);
+}
+
+}  // namespace dxlemu::bus

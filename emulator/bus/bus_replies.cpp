@@ -1,0 +1,126 @@
+// When replies reach the client: instruction wire time, processing, Return Delay Time and status
+// wire time on the virtual clock (DESIGN.md "Time"), chained slot after slot; and what applies
+// once a status is out (deferred identity changes, reboots).
+#include <algorithm>
+
+#include "bus/bus.hpp"
+#include "bus/bus_station.hpp"
+#include "bus/collision.hpp"
+#include "bus/line_timing.hpp"
+#include "wire/packet_encoder.hpp"
+
+namespace dxlemu::bus {
+
+using sim::SimDuration;
+using sim::SimTime;
+
+SimDuration Bus::line_time(std::size_t bytes, std::uint32_t bps) const {
+  return timing_ == ReplyTiming::Modelled ? wire_time(bytes, bps) : SimDuration{0};
+}
+
+// "For an instruction whose bytes arrived at t: line_end = t + wire(instruction)" (DESIGN.md).
+// A packet written in pieces cannot end before its last piece arrived plus one byte time. The
+// bytes of one write are stamped back to back (receive), so they take the first branch.
+SimTime Bus::line_end(const wire::Frame& frame) const {
+  const std::size_t size = frame.raw.size();
+  if (frame.last_byte_at <= frame.first_byte_at + line_time(size - 1, client_bps_)) {
+    return frame.first_byte_at + line_time(size, client_bps_);
+  }
+  return frame.last_byte_at + line_time(1, client_bps_);
+}
+
+SimDuration Bus::turnaround(const Reply& reply) const {
+  if (timing_ == ReplyTiming::Immediate) {
+    return reply.slow;  // an injected delay shows in every timing mode
+  }
+  return reply.response.processing + reply.station->servo->return_delay() + reply.slow;
+}
+
+Bus::Reply Bus::reply_of(const Listener& listener, model::ServoResponse response) const {
+  std::vector<std::uint8_t> bytes = status_bytes(*listener.station, response);
+  return {listener.station, std::move(response), std::move(bytes), listener.hearing.slow};
+}
+
+wire::Protocol Bus::status_protocol(const Station& station) {
+  return station.servo->protocol().value_or(wire::Protocol::V2);
+}
+
+std::vector<std::uint8_t> Bus::status_bytes(const Station& station,
+                                            const model::ServoResponse& response) const {
+  return wire::encode_status(
+      {status_protocol(station), station.servo->id(), response.error, response.params});
+}
+
+void Bus::answer(const Packet& packet, const std::vector<Slot>& slots, SimTime start_after) {
+  // A reply starts after the instruction (or the previous slot) ends, plus the servo's own
+  // processing time and Return Delay Time, and reaches the client when its last byte would.
+  SimTime after = start_after;
+  for (const Slot& slot : slots) {
+    if (slot.empty()) {
+      continue;
+    }
+    SimTime slot_end = after;
+    std::vector<std::vector<std::uint8_t>> packets;
+    std::vector<Settlement> settlements;
+    for (const Reply& r : slot) {
+      std::vector<std::uint8_t> bytes = r.bytes;
+      const faults::ReplyEffects effects =
+          faults_.reply(packet.heard, {r.station->servo->id()}, bytes, status_protocol(*r.station),
+                        scheduler_.now());
+      const SimTime start = after + turnaround(r) + effects.delay;
+      // A dropped status still took its time on the line: the chain after it keeps its timing.
+      const std::size_t on_line = effects.dropped ? r.bytes.size() : bytes.size();
+      slot_end = std::max(slot_end, start + line_time(on_line, r.station->servo->baud_bps()));
+      if (!bytes.empty()) {
+        packets.push_back(std::move(bytes));
+      }
+      settlements.push_back({r.station, r.response.reboot_after});
+    }
+    if (slot.size() > 1) {
+      ++stats_.id_conflicts;
+    }
+    send_at(collide(packets), slot_end, status_protocol(*slot.front().station),
+            std::move(settlements));
+    after = slot_end;
+  }
+}
+
+void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol protocol,
+                  std::vector<Settlement> settlements, bool is_reply) {
+  auto outgoing = std::make_shared<Outgoing>();
+  outgoing_.push_back(outgoing);
+  scheduler_.schedule_at(at, [this, outgoing, protocol, is_reply, bytes = std::move(bytes),
+                              settlements = std::move(settlements)] {
+    std::erase(outgoing_, outgoing);
+    if (!outgoing->cancelled && !bytes.empty()) {
+      if (link_.deliver(bytes, scheduler_.now())) {
+        stats_.replies += is_reply ? 1 : 0;
+      } else {
+        ++stats_.unread_drops;
+      }
+      if (observer_.sent) {
+        observer_.sent(bytes, scheduler_.now(), protocol);
+      }
+    }
+    // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
+    for (const Settlement& s : settlements) {
+      settle(*s.station, s.reboot, scheduler_.now());
+    }
+  });
+}
+
+void Bus::settle(Station& station, bool reboot, SimTime at) {
+  station.servo->advance_to(at);
+  station.servo->commit_deferred();
+  if (reboot) {
+    restart(station, at);
+  }
+}
+
+void Bus::restart(Station& station, SimTime at) {
+  station.servo->reboot();
+  faults_.rebooted(station.index);
+  station.booting_until = at + station.servo->boot_time();
+}
+
+}  // namespace dxlemu::bus

@@ -1,0 +1,48 @@
+#include "bus/read_request.hpp"
+
+#include <algorithm>
+#include <type_traits>
+
+namespace dxlemu::bus {
+
+ReadRequest read_request(const wire::InstructionPacket& packet) {
+  ReadRequest out;
+  auto add = [&](const ReadSlot& slot) {
+    if (std::none_of(out.slots.begin(), out.slots.end(),
+                     [&](const ReadSlot& s) { return s.id == slot.id; })) {
+      out.slots.push_back(slot);
+    }
+  };
+  std::visit(
+      [&](const auto& ins) {
+        using T = std::decay_t<decltype(ins)>;
+        if constexpr (std::is_base_of_v<wire::SyncRead, T>) {
+          out.fast = std::is_same_v<T, wire::FastSyncRead>;
+          for (const std::uint8_t id : ins.ids) {
+            add({id, ins.address, ins.length});
+          }
+        } else if constexpr (std::is_base_of_v<wire::BulkRead, T>) {
+          out.fast = std::is_same_v<T, wire::FastBulkRead>;
+          out.v1_bulk = packet.protocol == wire::Protocol::V1;
+          for (const wire::BulkReadTarget& t : ins.targets) {
+            add({t.id, t.address, t.length});
+          }
+        }
+      },
+      packet.instruction);
+  return out;
+}
+
+bool is_group_instruction(std::uint8_t code) {
+  using wire::InstructionCode;
+  for (const auto group :
+       {InstructionCode::SyncRead, InstructionCode::SyncWrite, InstructionCode::FastSyncRead,
+        InstructionCode::BulkRead, InstructionCode::BulkWrite, InstructionCode::FastBulkRead}) {
+    if (code == wire::to_byte(group)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace dxlemu::bus

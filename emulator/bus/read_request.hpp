@@ -1,0 +1,34 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "wire/instruction.hpp"
+
+namespace dxlemu::bus {
+
+/// One device's part of a Sync/Bulk Read, in request order.
+struct ReadSlot {
+  std::uint8_t id = 0;
+  std::uint16_t address = 0;
+  std::uint16_t length = 0;
+};
+
+/// What a Sync, Bulk, Fast Sync or Fast Bulk Read asks of the devices it lists.
+struct ReadRequest {
+  bool fast = false;     ///< Fast Sync/Bulk Read: one combined reply from ID 0xFE
+  bool v1_bulk = false;  ///< Protocol 1.0 Bulk Read (only some models execute it)
+  /// The listed devices' parts, each ID once (the first listed; protocol1.md "Bulk Read": "If an
+  /// identical ID is designated multiple times, only the first designated parameter will be
+  /// processed"). A servo handles a packet once, so Sync Read too.
+  std::vector<ReadSlot> slots;
+};
+
+/// The read `packet` asks for; empty slots when it is not a group read.
+ReadRequest read_request(const wire::InstructionPacket& packet);
+
+/// True for the instruction bytes of Sync/Bulk Read/Write and their Fast forms, which are only
+/// heard from the broadcast ID and list the devices they address.
+bool is_group_instruction(std::uint8_t code);
+
+}  // namespace dxlemu::bus

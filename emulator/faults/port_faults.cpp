@@ -1,0 +1,154 @@
+#include "faults/port_faults.hpp"
+
+#include <algorithm>
+
+#include "faults/packet_facts.hpp"
+
+namespace dxlemu::faults {
+
+PortFaults::PortFaults(sim::Scheduler& scheduler) : scheduler_(scheduler) {}
+
+PortFaults::~PortFaults() {
+  if (injector_ != nullptr) {
+    injector_->unsubscribe(subscription_);
+  }
+}
+
+void PortFaults::set_rules(Injector* injector, std::string port) {
+  if (injector_ != nullptr) {
+    injector_->unsubscribe(subscription_);
+  }
+  injector_ = injector;
+  port_ = std::move(port);
+  if (injector_ != nullptr) {
+    subscription_ = injector_->subscribe([this] { refresh(); });
+  }
+  refresh();
+}
+
+std::size_t PortFaults::add_servo(model::Servo& servo) {
+  stations_.push_back({&servo});
+  return stations_.size() - 1;
+}
+
+bool PortFaults::available(std::size_t servo, sim::SimTime at) const {
+  return at >= stations_[servo].deaf_until;
+}
+
+PacketFacts PortFaults::facts(const HeardPacket& packet, std::vector<std::uint8_t> ids,
+                              sim::SimTime at) const {
+  PacketFacts f{port_, packet.instruction, std::move(ids), std::nullopt, at};
+  if (packet.decoded != nullptr) {
+    f.span =
+        span_of(*packet.decoded, f.ids.size() == 1 ? std::optional(f.ids.front()) : std::nullopt);
+  }
+  return f;
+}
+
+InstructionEffects PortFaults::instruction(const HeardPacket& packet,
+                                           std::vector<std::uint8_t> ids) {
+  if (injector_ == nullptr) {
+    return {};
+  }
+  const InstructionEffects effects =
+      injector_->instruction(facts(packet, std::move(ids), packet.end));
+  count(effects.any());
+  return effects;
+}
+
+Hearing PortFaults::hear(const HeardPacket& packet, std::size_t servo) {
+  if (injector_ == nullptr) {
+    return {};
+  }
+  Station& s = stations_[servo];
+  const std::uint8_t id = s.servo->id();
+  const ServoEffects effects = injector_->servo(facts(packet, {id}, packet.end));
+  count(effects.any());
+  s.silent_until_reboot = s.silent_until_reboot || effects.silence_until_reboot;
+  Hearing out{!effects.silence, true, effects.slow};
+  if (s.silent_until_reboot) {
+    // Its firmware still reacts to a Reboot sent to its own ID, without answering.
+    const bool reboot = packet.instruction == wire::to_byte(wire::InstructionCode::Reboot) &&
+                        id == packet.id && packet.decoded != nullptr;
+    (reboot ? out.answers : out.hears) = false;
+  }
+  return out;
+}
+
+void PortFaults::wrote(const HeardPacket& packet, std::size_t servo, std::uint16_t address,
+                       std::span<const std::uint8_t> data) {
+  if (injector_ == nullptr) {
+    return;
+  }
+  Station& s = stations_[servo];
+  const std::size_t stored = s.servo->table().eeprom_bytes_holding(address, data);
+  if (stored == 0) {
+    return;
+  }
+  const sim::SimDuration busy =
+      injector_->eeprom_write(facts(packet, {s.servo->id()}, packet.end), stored);
+  if (busy.count() > 0) {
+    count(true);
+    s.deaf_until = std::max(s.deaf_until, packet.end + busy);
+  }
+}
+
+ReplyEffects PortFaults::reply(const HeardPacket& packet, std::vector<std::uint8_t> ids,
+                               std::vector<std::uint8_t>& bytes, wire::Protocol protocol,
+                               sim::SimTime at) {
+  if (injector_ == nullptr) {
+    return {};
+  }
+  const ReplyEffects effects = injector_->reply(facts(packet, std::move(ids), at), bytes, protocol);
+  count(effects.any);
+  return effects;
+}
+
+void PortFaults::rebooted(std::size_t servo) {
+  stations_[servo].silent_until_reboot = false;
+}
+
+void PortFaults::powered_on(std::size_t servo) {
+  rebooted(servo);
+  stations_[servo].deaf_until = {};
+}
+
+void PortFaults::follow(sim::SimTime now) {
+  if (injector_ != nullptr && !injector_->rules().empty()) {
+    apply_hardware_faults(now);
+  }
+}
+
+void PortFaults::refresh() {
+  if (window_) {
+    scheduler_.cancel(*window_);
+    window_.reset();
+  }
+  const sim::SimTime now = scheduler_.now();
+  for (const Station& s : stations_) {
+    s.servo->advance_to(now);
+  }
+  apply_hardware_faults(now);
+  if (injector_ == nullptr) {
+    return;
+  }
+  if (const auto next = injector_->next_state_change(now)) {
+    window_ = scheduler_.schedule_at(*next, [this] {
+      window_.reset();
+      refresh();
+    });
+  }
+}
+
+void PortFaults::apply_hardware_faults(sim::SimTime now) {
+  for (const Station& s : stations_) {
+    const model::FaultSet faults =
+        injector_ != nullptr ? injector_->hardware_faults(port_, s.servo->id(), now) : 0;
+    if (faults != s.servo->motion().injected()) {
+      s.servo->advance_to(now);
+      s.servo->motion().set_injected(faults);
+    }
+  }
+}
+
+}  // namespace dxlemu::faults

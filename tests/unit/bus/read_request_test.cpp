@@ -1,0 +1,41 @@
+// What a group read asks of each device, before any servo is looked at.
+#include <catch2/catch.hpp>
+
+#include "bus/read_request.hpp"
+
+using namespace dxlemu;
+
+TEST_CASE("A Bulk Read's request keeps each ID's first part, in list order", "[bus][group]") {
+  const wire::InstructionPacket packet{wire::Protocol::V2, wire::kBroadcastId,
+                                       wire::BulkRead{{{3, 132, 4}, {1, 126, 2}, {3, 116, 4}}}};
+  const bus::ReadRequest request = bus::read_request(packet);
+  CHECK_FALSE(request.fast);
+  CHECK_FALSE(request.v1_bulk);
+  REQUIRE(request.slots.size() == 2);
+  CHECK(request.slots[0].id == 3);
+  CHECK(request.slots[0].address == 132);
+  CHECK(request.slots[1].id == 1);
+  CHECK(request.slots[1].length == 2);
+}
+
+TEST_CASE("Fast and Protocol 1.0 group reads are told apart", "[bus][group]") {
+  wire::FastSyncRead fast;
+  fast.address = 132;
+  fast.length = 4;
+  fast.ids = {1, 2, 1};
+  const bus::ReadRequest f = bus::read_request({wire::Protocol::V2, wire::kBroadcastId, fast});
+  CHECK(f.fast);
+  CHECK(f.slots.size() == 2);
+  const bus::ReadRequest v1 =
+      bus::read_request({wire::Protocol::V1, wire::kBroadcastId, wire::BulkRead{{{1, 36, 2}}}});
+  CHECK(v1.v1_bulk);
+  CHECK_FALSE(v1.fast);
+  CHECK(bus::read_request({wire::Protocol::V2, 1, wire::Ping{}}).slots.empty());
+}
+
+TEST_CASE("Group instructions are the Sync and Bulk ones and their Fast forms", "[bus][group]") {
+  CHECK(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::FastBulkRead)));
+  CHECK(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::SyncWrite)));
+  CHECK_FALSE(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::Write)));
+  CHECK_FALSE(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::Reboot)));
+}
