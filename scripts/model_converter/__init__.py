@@ -1,0 +1,1 @@
+"""Converts the e-Manual control-table pages into dxlemu model files (scripts/convert_models.py)."""

@@ -1,0 +1,164 @@
+"""One page to one model dict: the items (item_builder.py), then the model-level fields (baud
+table, timing, protocols, motion, indirect blocks, dual axis) with a note for every choice."""
+
+from __future__ import annotations
+
+import re
+
+from . import motion
+from .catalogue import V1_FAMILIES, X330
+from .decisions import BOOT_MS, BOOT_NOTE, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, TIMING_OTHER, TIMING_V1
+from .item_builder import build_items
+from .items import Draft
+from .markdown import clean_cell, parse_bps, tables_in
+from .page import Page
+from .reference import Reference
+
+
+def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
+    """The model dict of `page`; `donors` are the X pages MX(2.0) ranges are read from."""
+    d = Draft(ref, page, donors)
+    fw, fw_note = FIRMWARE[d.variant]
+    build_items(d, fw)
+
+    model_number = d.by_key["model_number"].initial
+    if str(model_number) != d.tsv["model_number"]:
+        raise ValueError(f"{d.name}: model number {model_number} != models.tsv {d.tsv['model_number']}")
+    d.notes.insert(0, fw_note)
+    rates, default_baud = baud_rates(d)
+    timing = dict(TIMING_V1 if d.family in ("ax", "rx", "ex") else TIMING_OTHER, boot_ms=BOOT_MS)
+    if d.family in ("ax", "rx", "ex"):
+        d.notes.append("timing: ping 18 us, read 22 us, write 24 us + 6 us per data byte, as measured on an "
+                       "AX-12 (figures given with the converter's brief); used for RX and EX as the same "
+                       "Protocol 1.0 generation")
+    else:
+        d.notes.append("timing: 50 us for ping, read and write, none per byte ('MX about 50 us'); the same "
+                       "figure is used for X, XL-320, P and PRO, for which nothing is measured")
+    d.notes.append(BOOT_NOTE)
+    d.notes.append("return_delay_unit_us: 2 (Return Delay Time include: 'its unit is 2 [usec]')")
+    default_id = 1
+    if d.name == "2xl430-w250":
+        d.notes.append("default_id: 1 for the first axis; the second axis of the module is ID 2 "
+                       "(ID(7) initial '1, 2')")
+    model = {
+        "name": d.name, "title": title(d), "model_number": model_number,
+        "firmware_version": fw, "family": d.family, "protocols": protocols(d),
+        "default_id": default_id, "baud_rates": rates, "default_baud_index": default_baud,
+        "return_delay_unit_us": 2, "timing": timing, "motion": motion.motion(d),
+    }
+    ind = indirect(d)
+    if ind:
+        model["indirect"] = ind
+    if d.name == "2xl430-w250":
+        model["axes"] = 2
+        model["shared_items"] = ["baud_rate", "protocol_type"]
+        d.notes.append("axes: two axes, each with this control table; Baud Rate(8) and Protocol Type(13) are "
+                       "shared ('Attempting to change the Baud Rate of one joint will also affect the other "
+                       "joint'); EEPROM is writable only while both axes have Torque Enable 0 (README 16)")
+    model["source"] = source(d)
+    model["notes"] = d.notes
+    model["items"] = [i.to_json() for i in sorted(d.items, key=lambda i: i.row.address)]
+    return model
+
+
+def baud_rates(d: Draft) -> tuple[list[dict], int]:
+    fam = d.family
+    if fam in EXTERNAL_BAUD:
+        table, url = EXTERNAL_BAUD[fam]
+        d.notes.append(f"baud_rates: the page's Baud Rate include is not in the reference; the table is "
+                       f"from {url} (nominal rates)")
+        rates = table
+    else:
+        rates = parse_baud_tables(d)
+    default = d.by_key["baud_rate"].initial
+    if fam in ("ax", "rx", "ex", "mx1"):
+        d.notes.append("baud_rates: Baud Rate value n means 2,000,000/(n+1) bps for every n in 0 ~ 254 "
+                       "(MX 1.0: 250/251/252 are 2.25M/2.5M/3M); only the values the page's table "
+                       "lists are enumerated (the format cannot state the formula); the item accepts "
+                       "0 ~ 254")
+    return [{"index": i, "bps": b} for i, b in sorted(rates)], default
+
+
+def parse_baud_tables(d: Draft) -> list[tuple[int, int]]:
+    secs = [s for s in d.page.sections if "baud rate" in s.title.lower()]
+    if not secs:
+        raise ValueError(f"{d.name}: no Baud Rate section")
+    text = d.page.section_text(secs[0], d.ref)
+    rates = {}
+    for tab in tables_in(text.splitlines()):
+        if not tab.header or tab.header[0].lower() != "value":
+            continue
+        bcol = next(i for i, h in enumerate(tab.header) if "baud" in h.lower())
+        for cells in tab.rows:
+            idx = re.match(r"\s*(\d+)", clean_cell(cells[0]))
+            bps = parse_bps(clean_cell(cells[bcol]))
+            if idx and bps:
+                rates[int(idx.group(1))] = bps
+    if not rates:
+        raise ValueError(f"{d.name}: no baud table found")
+    return list(rates.items())
+
+
+def indirect(d: Draft) -> list[dict] | None:
+    ind = [i for i in d.items if i.key.startswith("indirect_")]
+    if not ind:
+        return None
+    fam = d.variant if d.variant in INDIRECT_BLOCKS else d.family
+    blocks = INDIRECT_BLOCKS[fam]
+    expected = set()
+    out = []
+    for first, last, addr0, data0 in blocks:
+        for n in range(first, last + 1):
+            a = d.by_key.get(f"indirect_address_{n}")
+            data = d.by_key.get(f"indirect_data_{n}")
+            if not a or a.row.address != addr0 + 2 * (n - first) or a.row.size != 2:
+                raise ValueError(f"{d.name}: Indirect Address {n} not at {addr0 + 2 * (n - first)}")
+            if not data or data.row.address != data0 + (n - first) or data.row.size != 1:
+                raise ValueError(f"{d.name}: Indirect Data {n} not at {data0 + (n - first)}")
+            expected |= {a.key, data.key}
+        out.append({"address": addr0, "data": data0, "count": last - first + 1})
+    extra = {i.key for i in ind} - expected
+    if extra:
+        raise ValueError(f"{d.name}: indirect items outside the expected blocks: {sorted(extra)}")
+    d.notes.append("indirect: " + ", ".join(
+        f"Indirect Address {f} ~ {l} at {a} ~ {a + 2 * (l - f)}, Data at {data} ~ {data + (l - f)}"
+        for f, l, a, data in blocks) + " (elided rows expanded; counts match the page and README)")
+    return out
+
+
+def protocols(d: Draft) -> list[int]:
+    fam = d.family
+    if fam in V1_FAMILIES:
+        return [1]
+    if fam in ("x", "mx2") and d.name not in X330:
+        d.notes.append("protocols: 2.0 by default, 1.0 through Protocol Type(13) = 1")
+        return [2, 1]
+    if d.name in X330:
+        d.notes.append("protocols: 2.0 only; Protocol Type 20/21/22 select RC receiver protocols "
+                       "(S.BUS, iBUS, RC-PWM), which are not DYNAMIXEL bus protocols")
+    if fam == "p":
+        d.notes.append("protocols: 2.0 only; Protocol Type 10 (Modbus-RTU) is accepted by the item but "
+                       "is not a DYNAMIXEL protocol and is not listed")
+    return [2]
+
+
+def source(d: Draft) -> str:
+    head = "\n".join(d.page.lines[:15])
+    m = re.search(r"(?:Text below taken from|e-Manual source):\s*(ROBOTIS-GIT/\w+) `([^`]+)`"
+                  r"(?:[^\n]*?(?:commit|@) ([0-9a-f]{40}))?", head)
+    if not m:
+        raise ValueError(f"{d.name}: page header names no source")
+    src = f"{m.group(1)} {m.group(2)}"
+    if m.group(3):
+        src += f" @ {m.group(3)}"
+    return f"control-tables/{d.name}.md ({src})"
+
+
+def title(d: Draft) -> str:
+    """models.tsv's model name as ROBOTIS prints it ('MX-28', 'MX-28(2.0)', 'H54-200-S500-R')."""
+    t = d.tsv["model"]
+    if "(1.0)" in t or "(legacy PRO)" in t:
+        t = t.replace(" (legacy PRO)", "").replace("(1.0)", "")
+        d.notes.append(f"title: '{t}' as the page prints it; models.tsv's '{d.tsv['model']}' adds a "
+                       f"qualifier that the name field already carries")
+    return t
