@@ -6,8 +6,9 @@ from __future__ import annotations
 import re
 
 from . import motion
-from .catalogue import V1_FAMILIES, X330
-from .decisions import BOOT_MS, BOOT_NOTE, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, TIMING_OTHER, TIMING_V1
+from .decisions.model_fields import (BAUD_FORMULA_FAMILIES, BAUD_FORMULA_NOTE, BOOT_MS, BOOT_NOTE, DEFAULT_ID,
+                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, PROTOCOLS,
+                                     RETURN_DELAY_NOTE, RETURN_DELAY_UNIT_US, TIMING)
 from .item_builder import build_items
 from .items import Draft
 from .markdown import clean_cell, parse_bps, tables_in
@@ -16,9 +17,10 @@ from .reference import Reference
 
 
 def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
-    """The model dict of `page`; `donors` are the X pages MX(2.0) ranges are read from."""
+    """The model dict of `page`; `donors` are the pages its missing ranges are read from
+    (item_rules.RANGE_DONORS)."""
     d = Draft(ref, page, donors)
-    fw, fw_note = FIRMWARE[d.variant]
+    fw, fw_note = d.lookup(FIRMWARE)
     build_items(d, fw)
 
     model_number = d.by_key["model_number"].initial
@@ -26,35 +28,25 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
         raise ValueError(f"{d.name}: model number {model_number} != models.tsv {d.tsv['model_number']}")
     d.notes.insert(0, fw_note)
     rates, default_baud = baud_rates(d)
-    timing = dict(TIMING_V1 if d.family in ("ax", "rx", "ex") else TIMING_OTHER, boot_ms=BOOT_MS)
-    if d.family in ("ax", "rx", "ex"):
-        d.notes.append("timing: ping 18 us, read 22 us, write 24 us + 6 us per data byte, as measured on an "
-                       "AX-12 (figures given with the converter's brief); used for RX and EX as the same "
-                       "Protocol 1.0 generation")
-    else:
-        d.notes.append("timing: 50 us for ping, read and write, none per byte ('MX about 50 us'); the same "
-                       "figure is used for X, XL-320, P and PRO, for which nothing is measured")
-    d.notes.append(BOOT_NOTE)
-    d.notes.append("return_delay_unit_us: 2 (Return Delay Time include: 'its unit is 2 [usec]')")
-    default_id = 1
-    if d.name == "2xl430-w250":
-        d.notes.append("default_id: 1 for the first axis; the second axis of the module is ID 2 "
-                       "(ID(7) initial '1, 2')")
+    figures, timing_note = TIMING[d.family]
+    d.notes += [timing_note, BOOT_NOTE, RETURN_DELAY_NOTE]
+    dual = DUAL_AXIS.get(d.name)
+    if dual:
+        d.notes.append(dual.default_id_note)
     model = {
         "name": d.name, "title": title(d), "model_number": model_number,
         "firmware_version": fw, "family": d.family, "protocols": protocols(d),
-        "default_id": default_id, "baud_rates": rates, "default_baud_index": default_baud,
-        "return_delay_unit_us": 2, "timing": timing, "motion": motion.motion(d),
+        "default_id": DEFAULT_ID, "baud_rates": rates, "default_baud_index": default_baud,
+        "return_delay_unit_us": RETURN_DELAY_UNIT_US, "timing": dict(figures, boot_ms=BOOT_MS),
+        "motion": motion.motion(d),
     }
     ind = indirect(d)
     if ind:
         model["indirect"] = ind
-    if d.name == "2xl430-w250":
+    if dual:
         model["axes"] = 2
-        model["shared_items"] = ["baud_rate", "protocol_type"]
-        d.notes.append("axes: two axes, each with this control table; Baud Rate(8) and Protocol Type(13) are "
-                       "shared ('Attempting to change the Baud Rate of one joint will also affect the other "
-                       "joint'); EEPROM is writable only while both axes have Torque Enable 0 (README 16)")
+        model["shared_items"] = list(dual.shared_items)
+        d.notes.append(dual.note)
     model["source"] = source(d)
     model["notes"] = d.notes
     model["items"] = [i.to_json() for i in sorted(d.items, key=lambda i: i.row.address)]
@@ -62,20 +54,17 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
 
 
 def baud_rates(d: Draft) -> tuple[list[dict], int]:
-    fam = d.family
-    if fam in EXTERNAL_BAUD:
-        table, url = EXTERNAL_BAUD[fam]
+    """The baud table (the page's Baud Rate section, else EXTERNAL_BAUD) and the default index."""
+    if d.family in EXTERNAL_BAUD:
+        table, url = EXTERNAL_BAUD[d.family]
         d.notes.append(f"baud_rates: the page's Baud Rate include is not in the reference; the table is "
                        f"from {url} (nominal rates)")
         rates = table
     else:
         rates = parse_baud_tables(d)
     default = d.by_key["baud_rate"].initial
-    if fam in ("ax", "rx", "ex", "mx1"):
-        d.notes.append("baud_rates: Baud Rate value n means 2,000,000/(n+1) bps for every n in 0 ~ 254 "
-                       "(MX 1.0: 250/251/252 are 2.25M/2.5M/3M); only the values the page's table "
-                       "lists are enumerated (the format cannot state the formula); the item accepts "
-                       "0 ~ 254")
+    if d.family in BAUD_FORMULA_FAMILIES:
+        d.notes.append(BAUD_FORMULA_NOTE)
     return [{"index": i, "bps": b} for i, b in sorted(rates)], default
 
 
@@ -103,8 +92,7 @@ def indirect(d: Draft) -> list[dict] | None:
     ind = [i for i in d.items if i.key.startswith("indirect_")]
     if not ind:
         return None
-    fam = d.variant if d.variant in INDIRECT_BLOCKS else d.family
-    blocks = INDIRECT_BLOCKS[fam]
+    blocks = d.lookup(INDIRECT_BLOCKS)
     expected = set()
     out = []
     for first, last, addr0, data0 in blocks:
@@ -127,19 +115,10 @@ def indirect(d: Draft) -> list[dict] | None:
 
 
 def protocols(d: Draft) -> list[int]:
-    fam = d.family
-    if fam in V1_FAMILIES:
-        return [1]
-    if fam in ("x", "mx2") and d.name not in X330:
-        d.notes.append("protocols: 2.0 by default, 1.0 through Protocol Type(13) = 1")
-        return [2, 1]
-    if d.name in X330:
-        d.notes.append("protocols: 2.0 only; Protocol Type 20/21/22 select RC receiver protocols "
-                       "(S.BUS, iBUS, RC-PWM), which are not DYNAMIXEL bus protocols")
-    if fam == "p":
-        d.notes.append("protocols: 2.0 only; Protocol Type 10 (Modbus-RTU) is accepted by the item but "
-                       "is not a DYNAMIXEL protocol and is not listed")
-    return [2]
+    listed, note = d.lookup(PROTOCOLS)
+    if note:
+        d.notes.append(note)
+    return list(listed)
 
 
 def source(d: Draft) -> str:

@@ -8,7 +8,8 @@ import json
 from pathlib import Path
 
 from .builder import build_model
-from .catalogue import CONVERTED_PAGES, family_of, product_group
+from .decisions.catalogue import CONVERTED_PAGES, classify
+from .decisions.item_rules import RANGE_DONORS
 from .page import read_page
 from .reference import Reference
 from .validation import cross_check, differences, validate
@@ -28,13 +29,11 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
     missing = [name for name in CONVERTED_PAGES if name not in available]
     if missing:
         raise SystemExit(f"convert_models: no page for {', '.join(missing)} in {ref.pages_dir}")
-    pages = {}
-    for name in CONVERTED_PAGES:
-        family = family_of(name)
-        pages[name] = read_page(ref, name, family, product_group(name, family))
-    donors = {"xm430-w350": pages["xm430-w350"], "xl430-w250": pages["xl430-w250"]}
+    pages = {name: read_page(ref, name, *classify(name)) for name in CONVERTED_PAGES}
     files, catalog, summary = {}, [], []
     for name, page in pages.items():
+        rule = RANGE_DONORS.get(page.family)
+        donors = {donor: pages[donor] for donor in rule.pages} if rule else {}
         try:
             model = build_model(ref, page, donors)
             validate(model)

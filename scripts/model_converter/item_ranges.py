@@ -7,12 +7,13 @@ value is accepted. Every choice leaves a "range: ..." note on the item.
 
 from __future__ import annotations
 
-from .decisions import EMANUAL_INCLUDES, NAME_ALIASES
+from .decisions.item_rules import LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY
+from .decisions.range_choices import RANGE_CHOICES
 from .items import Draft, Item
 from .markdown import clean_cell, norm_space, parse_int, snake_key, tables_in
 from .page import Row
-from .range_choices import RANGE_CHOICES
 from .ranges import RangeChoice, RangeSpec, evidence_found, find_choice, parse_range
+
 
 def section_ranges(d: Draft, item: Item) -> list[RangeSpec]:
     """Ranges stated in small 'Unit | Value Range' tables of the item's description section."""
@@ -43,8 +44,9 @@ def choice_for(d: Draft, key: str) -> RangeChoice | None:
     return choice
 
 
-def mx2_donor_range(d: Draft, row: Row) -> tuple[str, str, str] | None:
-    """Range cell of the same item on an X page (MX(2.0) pages have no Range column).
+def donor_range(d: Draft, row: Row) -> tuple[str, str, str] | None:
+    """Range cell of the same item on a donor page (RANGE_DONORS; MX(2.0) pages have no Range
+    column and borrow from the X pages).
 
     The MX(2.0) and X pages describe these items with the same shared include blocks, and the
     X tables print the ranges those blocks state. The donor item must have the same address,
@@ -148,14 +150,15 @@ def fill_unprinted_ranges(d: Draft):
                 text += f"; {choice.note}"
             item.notes.append(text)
             continue
-        # 3. MX(2.0): the same item on the X pages
-        if d.family == "mx2":
-            donor = mx2_donor_range(d, item.row)
+        # 3. the same item on a donor page (MX(2.0): the X pages)
+        if d.family in RANGE_DONORS:
+            donor = donor_range(d, item.row)
             if donor:
                 dname, cell, _ = donor
                 apply_spec(d, item, parse_range(cell), f"the {dname} table")
                 item.range_from = "donor"
-                item.notes.append(f"range: the MX(2.0) page has no Range column; '{clean_cell(cell)}' is taken "
+                label = RANGE_DONORS[d.family].label
+                item.notes.append(f"range: the {label} page has no Range column; '{clean_cell(cell)}' is taken "
                                   f"from the same item in control-tables/{dname}.md, whose description uses the "
                                   f"same shared include block")
                 continue
@@ -193,28 +196,23 @@ def resolve_limits(d: Draft):
             raise ValueError(f"{d.name}.{item.key}: half a range")
 
 
-def secondary_id_range(d: Draft):
-    """X/MX(2.0) print 0 ~ 252 for Secondary ID but ship it as 255 (= function off)."""
-    item = d.by_key.get("secondary_id")
-    if item is None or item.max is None or item.initial <= item.max:
-        return
-    item.notes.append(f"range: {item.min} ~ {item.max} is printed but the factory value is {item.initial}; "
-                      f"the Secondary ID include says '0 ~ 252 Activate Secondary ID function, 253 ~ 255 "
-                      f"Deactivate Secondary ID function, Default value 255' ({EMANUAL_INCLUDES}"
-                      f"control_table_shadowid.md, not in the reference), so 0 ~ 255 is accepted")
-    item.max = 255
+def widen_to_factory(d: Draft):
+    """Items printed with a range that excludes their factory value (WIDEN_TO_FACTORY)."""
+    for key, (widest, note) in WIDEN_TO_FACTORY.items():
+        item = d.by_key.get(key)
+        if item is None or item.max is None or item.initial <= item.max:
+            continue
+        item.notes.append(note.format(min=item.min, max=item.max, initial=item.initial))
+        item.max = widest
 
 
-def mx2_profile_limit(d: Draft):
-    """MX(2.0): Profile Acceleration may not exceed Acceleration Limit(40) (acclimit include)."""
-    if d.family != "mx2":
-        return
-    item, lim = d.by_key["profile_acceleration"], d.by_key["acceleration_limit"]
-    item.limit_max = "acceleration_limit"
-    item.notes.append("limit_max: acceleration_limit: 'Profile Acceleration(108) can't be configured with any "
-                      f"values exceeding Acceleration Limit(40)' ({EMANUAL_INCLUDES}control_table_acclimit.md, "
-                      "not in the reference)")
-    item.max = min(item.max, lim.max)
+def limit_max_overrides(d: Draft):
+    """Bounds the tables do not print (LIMIT_MAX_OVERRIDES): the static max is the lower one."""
+    for key, bound, note in LIMIT_MAX_OVERRIDES.get(d.family, ()):
+        item, lim = d.by_key[key], d.by_key[bound]
+        item.limit_max = bound
+        item.notes.append(note)
+        item.max = min(item.max, lim.max)
 
 
 def check_description_agreement(d: Draft):

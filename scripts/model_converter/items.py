@@ -5,10 +5,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .catalogue import X330
+from .decisions.catalogue import variant_of
 from .page import Page, Row
 from .ranges import full_width
 from .reference import Reference
+
 
 @dataclass
 class Item:
@@ -55,7 +56,6 @@ class Item:
     def access(self) -> str:
         return "RW" if self.row.access == "R/RW" else self.row.access
 
-
     def static_range(self) -> tuple[int, int]:
         """min ~ max, or the full width of the item where it has no range."""
         if self.min is not None:
@@ -79,7 +79,11 @@ class Draft:
     @property
     def variant(self) -> str:
         """The family, or the product line within it where that decides something (X330)."""
-        return "x330" if self.name in X330 else self.family
+        return variant_of(self.family, self.page.group)
+
+    def lookup(self, table: dict):
+        """The entry of a per-variant decision table, falling back to the family's."""
+        return table[self.variant] if self.variant in table else table[self.family]
 
     def add(self, item: Item) -> None:
         self.items.append(item)

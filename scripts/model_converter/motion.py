@@ -4,37 +4,17 @@ and the motor figures (the page's Specifications table, else motor_specs.py)."""
 from __future__ import annotations
 
 import re
-from fractions import Fraction
 
+from .decisions.model_fields import DEGREES_PER_PULSE
+from .decisions.motor_specs import EXTERNAL_SPECS
 from .items import Draft
 from .markdown import clean_cell, tables_in, unit_number
-from .motor_specs import EXTERNAL_SPECS
 from .spec_table import parse_spec_table
 
 
 def motion(d: Draft) -> dict:
-    fam, notes = d.family, d.notes
-    if fam in ("x", "mx2", "mx1"):
-        dpp = 360 / 4096
-        notes.append("motion.degrees_per_pulse: 360/4096 (4,096 pulses per revolution, Unit column '1 [pulse]' "
-                     "/ models.tsv '4096 pulse/rev')")
-    elif fam in ("ax", "rx", "xl320"):
-        dpp = 300 / 1024
-        notes.append("motion.degrees_per_pulse: 300/1024 = 0.29296875 (the spec's 'Resolution 0.29 deg': Goal "
-                     "Position 0 ~ 1,023 over 0 ~ 300 deg, 512 = 150 deg)")
-    elif fam == "ex":
-        dpp = 251 / 4096
-        notes.append("motion.degrees_per_pulse: 251/4096 = 0.0613 (spec: 'Resolution 0.06 deg', 'Running Degree "
-                     "0 ~ 251 deg' over 4,096 positions); the page's Goal Position text still says 0.29 deg "
-                     "(inherited from RX pages, see README inconsistencies)")
-    elif fam == "p":
-        dpp = float(Fraction(180, 501923))
-        notes.append("motion.degrees_per_pulse: 180/501,923 (Goal Position description: -180 ~ 180 deg = "
-                     "-501,923 ~ 501,923)")
-    else:
-        dpp = float(Fraction(180, 250961))
-        notes.append("motion.degrees_per_pulse: 180/250,961, derived from the default position limits "
-                     "+-250,961 taken as +-180 deg (models.tsv: 'derived from defaults, not stated')")
+    dpp, note = DEGREES_PER_PULSE[d.family]
+    d.notes.append(note)
     m = {"degrees_per_pulse": dpp, "velocity_unit_rpm": velocity_unit(d)}
     cur = current_unit(d)
     if cur is not None:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from .markdown import Table, camel_to_include, clean_cell, parse_int, tables_in
 from .reference import TAG_ALIASES, Reference
 
+
 @dataclass
 class Row:
     """One control-table row as printed (after ellipsis expansion, `expanded` is True)."""

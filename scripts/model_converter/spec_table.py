@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from .markdown import clean_cell, tables_in
 
+
 @dataclass
 class PageSpec:
     """Motor figures read from a page's Specifications table (see parse_spec_table)."""

@@ -4,8 +4,8 @@ in it (checked at every run), or a public URL for includes that were not copied.
 
 from __future__ import annotations
 
-from .decisions import EMANUAL_INCLUDES
-from .ranges import rc
+from ..ranges import rc
+from . import EMANUAL_INCLUDES
 
 LEGACY = "control-tables/includes/ax-legacy-page-description-sections.md"
 
