@@ -69,6 +69,7 @@ def baud_rates(d: Draft) -> tuple[list[dict], int]:
 
 
 def parse_baud_tables(d: Draft) -> list[tuple[int, int]]:
+    """The (index, bps) rows of the Value tables in the page's Baud Rate section."""
     secs = [s for s in d.page.sections if "baud rate" in s.title.lower()]
     if not secs:
         raise ValueError(f"{d.name}: no Baud Rate section")
@@ -89,6 +90,7 @@ def parse_baud_tables(d: Draft) -> list[tuple[int, int]]:
 
 
 def indirect(d: Draft) -> list[dict] | None:
+    """The Indirect Address / Data blocks (INDIRECT_BLOCKS), checked against the items; None without any."""
     ind = [i for i in d.items if i.key.startswith("indirect_")]
     if not ind:
         return None
@@ -115,6 +117,7 @@ def indirect(d: Draft) -> list[dict] | None:
 
 
 def protocols(d: Draft) -> list[int]:
+    """The protocols the model speaks (PROTOCOLS)."""
     listed, note = d.lookup(PROTOCOLS)
     if note:
         d.notes.append(note)
@@ -122,6 +125,7 @@ def protocols(d: Draft) -> list[int]:
 
 
 def source(d: Draft) -> str:
+    """The page and the e-Manual file (and commit) its header names."""
     head = "\n".join(d.page.lines[:15])
     m = re.search(r"(?:Text below taken from|e-Manual source):\s*(ROBOTIS-GIT/\w+) `([^`]+)`"
                   r"(?:[^\n]*?(?:commit|@) ([0-9a-f]{40}))?", head)

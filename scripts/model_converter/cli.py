@@ -20,6 +20,7 @@ DEFAULT_OUT = REPO_ROOT / "models"
 
 
 def dump(obj) -> str:
+    """JSON as the model files are written: two-space indent, UTF-8, final newline."""
     return json.dumps(obj, indent=2, ensure_ascii=False) + "\n"
 
 

@@ -36,6 +36,8 @@ def build_items(d: Draft, fw: int) -> None:
 
 
 def make_items(d: Draft):
+    """One item per row: key (snake_case of the name; with the address where two rows share it),
+    unit, and the note on 'R/RW' access."""
     keys_seen: dict[str, Row] = {}
     for row in d.page.rows:
         key = snake_key(row.name)
@@ -61,6 +63,8 @@ def page_has_extended_mode(d: Draft) -> bool:
 
 
 def signedness(d: Draft):
+    """Signed items: negative ranges or bounds, the read-backs of SIGNED_READBACK, a Goal Position
+    that Extended Position Control Mode drives below zero, and Bus Watchdog."""
     for item in d.items:
         if (item.min is not None and item.min < 0) or (item.values and min(item.values) < 0):
             item.signed = True
@@ -108,6 +112,7 @@ def operating_modes(d: Draft):
 
 
 def mode_values(d: Draft, include: str) -> list[int]:
+    """The numbers of the first Value table of an include (the modes an Operating Mode block lists)."""
     text = d.ref.include(include, d.page.group)
     values = []
     for tab in tables_in(text.splitlines()):

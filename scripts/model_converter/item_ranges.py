@@ -63,6 +63,7 @@ def donor_range(d: Draft, row: Row) -> tuple[str, str, str] | None:
 
 
 def ref_key(d: Draft, ref: tuple, item: Item) -> tuple[str, Item]:
+    """The key (with "-" when negated) of the item a Range cell names as a bound."""
     negated, name, addr = ref
     target = d.by_addr.get(addr)
     if target is None or snake_key(target.row.name) != snake_key(name):
@@ -103,6 +104,7 @@ def apply_spec(d: Draft, item: Item, spec: RangeSpec, source: str):
 
 
 def printed_ranges(d: Draft):
+    """Ranges from the table: the Range cell, or the Min/Max columns (XL-320)."""
     for item in d.items:
         row = item.row
         spec = None
@@ -118,6 +120,7 @@ def printed_ranges(d: Draft):
 
 
 def fill_unprinted_ranges(d: Draft):
+    """Ranges of the items the table leaves open, in the order of the module docstring."""
     for item in d.items:
         if item.range_from:
             continue
@@ -170,6 +173,7 @@ def fill_unprinted_ranges(d: Draft):
 
 
 def resolve_limits(d: Draft):
+    """Static min/max of items bounded by other items: the bounding item's own static range."""
     for item in d.items:
         for side in ("limit_min", "limit_max"):
             ref = getattr(item, side)

@@ -13,6 +13,7 @@ from .reference import Reference
 
 @dataclass
 class Item:
+    """One item of the model, with the notes of every choice made for it."""
     row: Row
     key: str
     initial: int | None = None
@@ -28,6 +29,7 @@ class Item:
     range_from: str = ""       # "table", "choice", ... (for the summary)
 
     def to_json(self) -> dict:
+        """The item as docs/model-format.md writes it (fields in that order, defaults omitted)."""
         d = {"key": self.key, "name": self.row.name, "address": self.row.address, "size": self.row.size,
              "access": self.access, "area": self.row.area}
         if self.initial_from is not None:
@@ -54,6 +56,7 @@ class Item:
 
     @property
     def access(self) -> str:
+        """"R" or "RW" ("R/RW" is stored as RW)."""
         return "RW" if self.row.access == "R/RW" else self.row.access
 
     def static_range(self) -> tuple[int, int]:
@@ -86,6 +89,7 @@ class Draft:
         return table[self.variant] if self.variant in table else table[self.family]
 
     def add(self, item: Item) -> None:
+        """Appends `item` and indexes it by key and address."""
         self.items.append(item)
         self.by_key[item.key] = item
         self.by_addr[item.row.address] = item

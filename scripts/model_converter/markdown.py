@@ -26,6 +26,7 @@ def clean_cell(text: str) -> str:
 
 
 def split_row(line: str) -> list[str]:
+    """The raw cells of a pipe-table line (outer pipes dropped)."""
     body = line.strip()
     if body.startswith("|"):
         body = body[1:]
@@ -35,11 +36,13 @@ def split_row(line: str) -> list[str]:
 
 
 def is_separator(cells: list[str]) -> bool:
+    """True for the '|---|:--:|' line under a table header."""
     return all(re.fullmatch(r"\s*:?-{2,}:?\s*", c or "") for c in cells)
 
 
 @dataclass
 class Table:
+    """A pipe table: cleaned header, raw cells per row."""
     line: int                 # 0-based line of the header
     header: list[str]         # cleaned header cells
     rows: list[list[str]]     # raw cells (uncleaned) of each data row
@@ -74,6 +77,7 @@ def parse_int(text: str) -> int | None:
 
 
 def norm_space(text: str) -> str:
+    """Runs of whitespace as one space, ends stripped."""
     return re.sub(r"\s+", " ", text).strip()
 
 
@@ -94,7 +98,7 @@ def select_liquid_branch(text: str, group: str) -> str:
     """Keep only the branch of top-level {% if page.product_group==... %} blocks that applies."""
     out, pos = [], 0
     pattern = re.compile(r"{%\s*(if|elsif|else|endif)\b(.*?)%}", re.S)
-    depth, taking, taken, buf_start = 0, True, False, 0
+    depth, taking, taken = 0, True, False
     for m in pattern.finditer(text):
         kind, cond = m.group(1), m.group(2)
         if kind == "if":
@@ -128,12 +132,14 @@ def select_liquid_branch(text: str, group: str) -> str:
 
 
 def clean_unit(unit: str) -> str | None:
+    """A Unit cell as the model stores it ('[ V ]' -> '[V]'); None for '-', empty or an ellipsis."""
     u = norm_space(unit.replace("[ ", "[").replace(" ]", "]"))
     u = re.sub(r"\s+\]", "]", u)
     return None if u in ("", "-") or u in ELLIPSES else u
 
 
 def unit_number(unit: str | None) -> float | None:
+    """The leading figure of a unit ('about 0.229 [rev/min]' -> 0.229); None without one."""
     if not unit:
         return None
     m = re.match(r"(?:about\s*)?([\d.]+)", unit.strip(), re.I)
@@ -141,6 +147,7 @@ def unit_number(unit: str | None) -> float | None:
 
 
 def parse_bps(text: str) -> int | None:
+    """A baud-table cell as bits per second ('57,600', '1M', '4.5 Mbps'); None when it is not one."""
     t = text.replace("[bps]", "").replace("bps", "").replace(",", "").strip()
     m = re.fullmatch(r"([\d.]+)\s*(M|Mbps|K)?", t.replace(" ", ""))
     if not m:

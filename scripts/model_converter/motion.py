@@ -13,6 +13,7 @@ from .spec_table import parse_spec_table
 
 
 def motion(d: Draft) -> dict:
+    """The model's motion block."""
     dpp, note = DEGREES_PER_PULSE[d.family]
     d.notes.append(note)
     m = {"degrees_per_pulse": dpp, "velocity_unit_rpm": velocity_unit(d)}
@@ -25,6 +26,7 @@ def motion(d: Draft) -> dict:
 
 
 def velocity_unit(d: Draft) -> float:
+    """rev/min per velocity unit, from models.tsv, checked against the Unit column."""
     col = d.tsv["max_speed_units"]
     mt = re.search(r"x ([\d.]+) rev/min|about ([\d.]+) ?rpm/unit", col)
     if not mt:
@@ -39,6 +41,7 @@ def velocity_unit(d: Draft) -> float:
 
 
 def current_unit(d: Draft) -> float | None:
+    """mA per current unit: a Unit column in mA, else a figure the description states; None without one."""
     for key in ("current_limit", "goal_current", "present_current", "goal_torque", "torque_limit"):
         item = d.by_key.get(key)
         if item and item.unit and "mA" in item.unit:

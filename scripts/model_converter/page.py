@@ -40,6 +40,7 @@ class Section:
 
 @dataclass
 class Page:
+    """A parsed page; `columns` are the meanings its table headers have (map_columns)."""
     name: str
     family: str
     group: str
@@ -50,9 +51,11 @@ class Page:
 
     @property
     def text(self) -> str:
+        """The whole page."""
         return "\n".join(self.lines)
 
     def section_for(self, address: int) -> list[Section]:
+        """The description sections whose heading names `address`."""
         return [s for s in self.sections if address in s.addresses]
 
     def section_text(self, sec: Section, ref: Reference) -> str:
@@ -108,6 +111,7 @@ def control_tables(lines: list[str]) -> list[tuple[str, Table]]:
 
 
 def read_rows(area: str, table: Table) -> list[dict]:
+    """The cells of each row by meaning, cleaned (ellipsis rows included, see expand_ellipses)."""
     cols = map_columns(table.header)
     out = []
     for cells, raw in zip(table.rows, table.raw_rows):
@@ -130,10 +134,12 @@ def read_rows(area: str, table: Table) -> list[dict]:
 
 
 def is_ellipsis_row(r: dict) -> bool:
+    """A row standing for an elided series: its Address cell is no number ('…')."""
     return parse_int(r["address"]) is None
 
 
 def numbered(name: str) -> tuple[str, int] | None:
+    """'Indirect Address 27' -> ('Indirect Address', 27); None without a trailing number."""
     m = re.fullmatch(r"(.*?)\s*(\d+)", name)
     return (m.group(1), int(m.group(2))) if m else None
 
@@ -210,7 +216,7 @@ def description_sections(lines: list[str]) -> list[Section]:
 
 def read_page(ref: Reference, name: str, family: str, group: str) -> Page:
     """control-tables/<name>.md parsed; `family` and `group` (the e-Manual product group, which
-    picks the Liquid branches of its includes) come from catalogue.py."""
+    picks the Liquid branches of its includes) come from decisions/catalogue.py."""
     lines = ref.text(f"control-tables/{name}.md").splitlines()
     raw, columns = [], set()
     tabs = control_tables(lines)

@@ -1,6 +1,6 @@
 """Ranges: what a Range cell says (RangeSpec, parse_range), the full width of an item, and the
 shape of a documented range choice with the evidence it must be found in (RangeChoice; the
-choices themselves are data in range_choices.py).
+choices themselves are data in decisions/range_choices.py).
 
 How an item's range is decided, in order, is item_ranges.py.
 """
@@ -68,23 +68,26 @@ def parse_range(cell: str) -> RangeSpec | None:
 
 
 def full_width(size: int, signed: bool) -> tuple[int, int]:
+    """(min, max) of a `size`-byte item, two's complement when `signed`."""
     bits = 8 * size
     return (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signed else (0, (1 << bits) - 1)
 
 
 @dataclass(frozen=True)
 class RangeChoice:
+    """The range of items a page leaves open, for some families, and where that is stated."""
     families: frozenset
     keys: tuple
     min: int | None
     max: int | None
     evidence: str            # reference-relative file, "PAGE" (the model's own page) or a URL
     quotes: tuple = ()       # at least one must occur in the evidence file (whitespace-normalised)
-    note: str = ""
-    signed: bool = False
+    note: str = ""           # added to the item's note; with min None, the note is all there is
+    signed: bool = False     # the range needs the item to be signed
 
 
-def rc(families, keys, lo, hi, evidence, quotes=(), note="", signed=False):
+def rc(families, keys, lo, hi, evidence, quotes=(), note="", signed=False) -> RangeChoice:
+    """A RangeChoice written compactly: families "ax rx", one key or several, one quote or several."""
     if isinstance(keys, str):
         keys = (keys,)
     if isinstance(quotes, str):

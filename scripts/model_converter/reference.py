@@ -35,9 +35,11 @@ class Reference:
         return rows
 
     def page_names(self) -> list[str]:
+        """Names of every control-table page (file stems), sorted."""
         return sorted(p.stem for p in self.pages_dir.glob("*.md"))
 
     def text(self, rel: str) -> str:
+        """A file of the reference by relative path, read once."""
         if rel not in self._cache:
             self._cache[rel] = (self.root / rel).read_text(encoding="utf-8")
         return self._cache[rel]

@@ -23,6 +23,7 @@ EMANUAL_MX_INFO = ("https://github.com/ROBOTIS-GIT/emanual/blob/0ba8ce0815a0d44d
 
 @dataclass(frozen=True)
 class MotorSpec:
+    """Motor figures of one model and where they were read."""
     rpm: float | None      # no-load speed [rev/min]
     nm: float | None       # stall torque [N.m]
     amps: float | None     # stall current [A]
@@ -32,11 +33,13 @@ class MotorSpec:
 
 
 def x_info(key: str, torque: str, speed: str, page: str) -> str:
+    """Source text for figures read from the e-Manual's dxl_x_info.yml."""
     return (f"{EMANUAL_X_INFO}, key '{key}': stalltorque '{torque}', noloadspeed '{speed}' (the data the "
             f"Specifications table of {page} is rendered from)")
 
 
 def mx_info(key: str, torque: str, speed: str) -> str:
+    """Source text for figures read from the e-Manual's dxl_mx_info.yml."""
     return f"{EMANUAL_MX_INFO}, key '{key}': stalltorque '{torque}', noloadspeed '{speed}'"
 
 
