@@ -30,7 +30,12 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
     missing = [name for name in CONVERTED_PAGES if name not in available]
     if missing:
         raise SystemExit(f"convert_models: no page for {', '.join(missing)} in {ref.pages_dir}")
-    pages = {name: read_page(ref, name, *classify(name)) for name in CONVERTED_PAGES}
+    pages = {}
+    for name in CONVERTED_PAGES:
+        try:
+            pages[name] = read_page(ref, name, *classify(name))
+        except ValueError as exc:
+            raise SystemExit(f"convert_models: {name}: {exc}")
     files, catalog, summary = {}, [], []
     for name, page in pages.items():
         rule = RANGE_DONORS.get(page.family)
