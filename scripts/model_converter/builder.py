@@ -1,0 +1,147 @@
+"""One page to one model dict: the items (item_builder.py), then the model-level fields (baud
+table, timing, protocols, motion, indirect blocks, dual axis) with a note for every choice."""
+
+from __future__ import annotations
+
+import re
+
+from . import motion
+from .decisions.model_fields import (BAUD_FORMULA_FAMILIES, BAUD_FORMULA_NOTE, BOOT_MS, BOOT_NOTE, DEFAULT_ID,
+                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, PROTOCOLS,
+                                     RETURN_DELAY_NOTE, RETURN_DELAY_UNIT_US, TIMING)
+from .item_builder import build_items
+from .items import Draft
+from .markdown import clean_cell, parse_bps, tables_in
+from .page import Page
+from .reference import Reference
+
+
+def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
+    """The model dict of `page`; `donors` are the pages its missing ranges are read from
+    (item_rules.RANGE_DONORS)."""
+    d = Draft(ref, page, donors)
+    fw, fw_note = d.lookup(FIRMWARE)
+    build_items(d, fw)
+
+    model_number = d.by_key["model_number"].initial
+    if str(model_number) != d.tsv["model_number"]:
+        raise ValueError(f"{d.name}: model number {model_number} != models.tsv {d.tsv['model_number']}")
+    d.notes.insert(0, fw_note)
+    rates, default_baud = baud_rates(d)
+    figures, timing_note = TIMING[d.family]
+    d.notes += [timing_note, BOOT_NOTE, RETURN_DELAY_NOTE]
+    dual = DUAL_AXIS.get(d.name)
+    if dual:
+        d.notes.append(dual.default_id_note)
+    model = {
+        "name": d.name, "title": title(d), "model_number": model_number,
+        "firmware_version": fw, "family": d.family, "protocols": protocols(d),
+        "default_id": DEFAULT_ID, "baud_rates": rates, "default_baud_index": default_baud,
+        "return_delay_unit_us": RETURN_DELAY_UNIT_US, "timing": dict(figures, boot_ms=BOOT_MS),
+        "motion": motion.motion(d),
+    }
+    ind = indirect(d)
+    if ind:
+        model["indirect"] = ind
+    if dual:
+        model["axes"] = 2
+        model["shared_items"] = list(dual.shared_items)
+        d.notes.append(dual.note)
+    model["source"] = source(d)
+    model["notes"] = d.notes
+    model["items"] = [i.to_json() for i in sorted(d.items, key=lambda i: i.row.address)]
+    return model
+
+
+def baud_rates(d: Draft) -> tuple[list[dict], int]:
+    """The baud table (the page's Baud Rate section, else EXTERNAL_BAUD) and the default index."""
+    if d.family in EXTERNAL_BAUD:
+        table, url = EXTERNAL_BAUD[d.family]
+        d.notes.append(f"baud_rates: the page's Baud Rate include is not in the reference; the table is "
+                       f"from {url} (nominal rates)")
+        rates = table
+    else:
+        rates = parse_baud_tables(d)
+    default = d.by_key["baud_rate"].initial
+    if d.family in BAUD_FORMULA_FAMILIES:
+        d.notes.append(BAUD_FORMULA_NOTE)
+    return [{"index": i, "bps": b} for i, b in sorted(rates)], default
+
+
+def parse_baud_tables(d: Draft) -> list[tuple[int, int]]:
+    """The (index, bps) rows of the Value tables in the page's Baud Rate section."""
+    secs = [s for s in d.page.sections if "baud rate" in s.title.lower()]
+    if not secs:
+        raise ValueError(f"{d.name}: no Baud Rate section")
+    text = d.page.section_text(secs[0], d.ref)
+    rates = {}
+    for tab in tables_in(text.splitlines()):
+        if not tab.header or tab.header[0].lower() != "value":
+            continue
+        bcol = next(i for i, h in enumerate(tab.header) if "baud" in h.lower())
+        for cells in tab.rows:
+            idx = re.match(r"\s*(\d+)", clean_cell(cells[0]))
+            bps = parse_bps(clean_cell(cells[bcol]))
+            if idx and bps:
+                rates[int(idx.group(1))] = bps
+    if not rates:
+        raise ValueError(f"{d.name}: no baud table found")
+    return list(rates.items())
+
+
+def indirect(d: Draft) -> list[dict] | None:
+    """The Indirect Address / Data blocks (INDIRECT_BLOCKS), checked against the items; None without any."""
+    ind = [i for i in d.items if i.key.startswith("indirect_")]
+    if not ind:
+        return None
+    blocks = d.lookup(INDIRECT_BLOCKS)
+    expected = set()
+    out = []
+    for first, last, addr0, data0 in blocks:
+        for n in range(first, last + 1):
+            a = d.by_key.get(f"indirect_address_{n}")
+            data = d.by_key.get(f"indirect_data_{n}")
+            if not a or a.row.address != addr0 + 2 * (n - first) or a.row.size != 2:
+                raise ValueError(f"{d.name}: Indirect Address {n} not at {addr0 + 2 * (n - first)}")
+            if not data or data.row.address != data0 + (n - first) or data.row.size != 1:
+                raise ValueError(f"{d.name}: Indirect Data {n} not at {data0 + (n - first)}")
+            expected |= {a.key, data.key}
+        out.append({"address": addr0, "data": data0, "count": last - first + 1})
+    extra = {i.key for i in ind} - expected
+    if extra:
+        raise ValueError(f"{d.name}: indirect items outside the expected blocks: {sorted(extra)}")
+    d.notes.append("indirect: " + ", ".join(
+        f"Indirect Address {f} ~ {l} at {a} ~ {a + 2 * (l - f)}, Data at {data} ~ {data + (l - f)}"
+        for f, l, a, data in blocks) + " (elided rows expanded; counts match the page and README)")
+    return out
+
+
+def protocols(d: Draft) -> list[int]:
+    """The protocols the model speaks (PROTOCOLS)."""
+    listed, note = d.lookup(PROTOCOLS)
+    if note:
+        d.notes.append(note)
+    return list(listed)
+
+
+def source(d: Draft) -> str:
+    """The page and the e-Manual file (and commit) its header names."""
+    head = "\n".join(d.page.lines[:15])
+    m = re.search(r"(?:Text below taken from|e-Manual source):\s*(ROBOTIS-GIT/\w+) `([^`]+)`"
+                  r"(?:[^\n]*?(?:commit|@) ([0-9a-f]{40}))?", head)
+    if not m:
+        raise ValueError(f"{d.name}: page header names no source")
+    src = f"{m.group(1)} {m.group(2)}"
+    if m.group(3):
+        src += f" @ {m.group(3)}"
+    return f"control-tables/{d.name}.md ({src})"
+
+
+def title(d: Draft) -> str:
+    """models.tsv's model name as ROBOTIS prints it ('MX-28', 'MX-28(2.0)', 'H54-200-S500-R')."""
+    t = d.tsv["model"]
+    if "(1.0)" in t or "(legacy PRO)" in t:
+        t = t.replace(" (legacy PRO)", "").replace("(1.0)", "")
+        d.notes.append(f"title: '{t}' as the page prints it; models.tsv's '{d.tsv['model']}' adds a "
+                       f"qualifier that the name field already carries")
+    return t

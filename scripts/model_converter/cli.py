@@ -1,0 +1,102 @@
+"""The command line: build every model of CONVERTED_PAGES, validate and cross-check each, then
+write the files or (--check) compare them with what is on disk."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from .builder import build_model
+from .decisions.catalogue import CONVERTED_PAGES, classify
+from .decisions.item_rules import RANGE_DONORS
+from .page import read_page
+from .reference import Reference
+from .validation import cross_check, differences, validate
+
+REPO_ROOT = Path(__file__).resolve().parent.parent.parent
+DEFAULT_REFERENCE = REPO_ROOT.parent / "shared" / "reference"
+DEFAULT_OUT = REPO_ROOT / "models"
+
+
+def dump(obj) -> str:
+    """JSON as the model files are written: two-space indent, UTF-8, final newline."""
+    return json.dumps(obj, indent=2, ensure_ascii=False) + "\n"
+
+
+def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
+    """All output files as {file name: text}."""
+    available = set(ref.page_names())
+    missing = [name for name in CONVERTED_PAGES if name not in available]
+    if missing:
+        raise SystemExit(f"convert_models: no page for {', '.join(missing)} in {ref.pages_dir}")
+    pages = {}
+    for name in CONVERTED_PAGES:
+        try:
+            pages[name] = read_page(ref, name, *classify(name))
+        except ValueError as exc:
+            raise SystemExit(f"convert_models: {name}: {exc}")
+    files, catalog, summary = {}, [], []
+    for name, page in pages.items():
+        rule = RANGE_DONORS.get(page.family)
+        donors = {donor: pages[donor] for donor in rule.pages} if rule else {}
+        try:
+            model = build_model(ref, page, donors)
+            validate(model)
+            deviations = cross_check(page, model)
+        except (ValueError, AssertionError, KeyError) as exc:
+            raise SystemExit(f"convert_models: {name}: {exc}")
+        files[f"{name}.json"] = dump(model)
+        catalog.append({"name": name, "title": model["title"], "model_number": model["model_number"],
+                        "family": model["family"], "protocols": model["protocols"], "file": f"{name}.json"})
+        n_notes = len(model["notes"]) + sum(1 for i in model["items"] if "note" in i)
+        summary.append((name, model["family"], len(model["items"]), len(model["notes"]), n_notes, deviations))
+    files["catalog.json"] = dump({"models": sorted(catalog, key=lambda c: c["name"])})
+    if not quiet:
+        print(f"{'model':<18} {'family':<6} {'items':>5} {'model notes':>11} {'all notes':>9}  documented deviations")
+        for name, fam, n_items, n_mnotes, n_notes, dev in summary:
+            print(f"{name:<18} {fam:<6} {n_items:>5} {n_mnotes:>11} {n_notes:>9}  {', '.join(dev) or '-'}")
+        fams = {}
+        for _, fam, *_ in summary:
+            fams[fam] = fams.get(fam, 0) + 1
+        print("per family: " + ", ".join(f"{f} {n}" for f, n in sorted(fams.items())))
+    return files
+
+
+def print_not_converted(ref: Reference) -> None:
+    """Names the reference pages that no model is made from (CONVERTED_PAGES)."""
+    rest = sorted(set(ref.page_names()) - set(CONVERTED_PAGES))
+    if rest:
+        print(f"not converted: {len(rest)} reference pages have no model yet: {', '.join(rest)}")
+
+
+def main(argv=None, description: str = "") -> int:
+    """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--reference", type=Path, default=DEFAULT_REFERENCE,
+                    help="reference directory (default: ../shared/reference from the repository root)")
+    ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default: models/)")
+    ap.add_argument("--check", action="store_true",
+                    help="write nothing; exit 1 listing files that differ from what is in --out")
+    ap.add_argument("--quiet", action="store_true", help="no per-model summary")
+    args = ap.parse_args(argv)
+    files = build_all(Reference(args.reference), args.quiet or args.check)
+    out: Path = args.out
+    if args.check:
+        differ, stale = differences(files, out)
+        for f in differ:
+            print(f"differs: {out / f}")
+        for f in stale:
+            print(f"not generated (stale): {out / f}")
+        if differ or stale:
+            print("run: python3 scripts/convert_models.py")
+            return 1
+        print(f"models: {len(files)} files up to date")
+        print_not_converted(Reference(args.reference))
+        return 0
+    out.mkdir(parents=True, exist_ok=True)
+    for f, text in sorted(files.items()):
+        path = out / f
+        if not path.exists() or path.read_text(encoding="utf-8") != text:
+            path.write_text(text, encoding="utf-8")
+    return 0

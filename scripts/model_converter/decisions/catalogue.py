@@ -1,0 +1,84 @@
+"""Which reference pages become models (CONVERTED_PAGES), and what a page's name says about it:
+its behaviour family, its e-Manual product group (which picks the Liquid branches of the
+includes) and its variant (the family, or a product line within it where that decides something).
+
+Adding a page: add its name to CONVERTED_PAGES; if no PAGE_RULES pattern matches it, add one.
+"""
+
+from __future__ import annotations
+
+import re
+
+V1_FAMILIES = {"ax", "rx", "ex", "mx1"}           # Protocol 1.0 control tables
+P2_FAMILIES = {"x", "mx2", "p", "pro"}            # Protocol 2.0 tables with 4-byte items
+
+
+# The pages whose layouts this converter reads. The reference holds more (the rest of the ROBOTIS
+# catalogue); they are named by --check and the summary as not converted, and are not models yet.
+CONVERTED_PAGES = (
+    "2xl430-w250",
+    "ax-12a",
+    "ax-12w",
+    "ax-18a",
+    "ex-106+",
+    "h54-200-s500-r",
+    "mx-106",
+    "mx-106-2",
+    "mx-28",
+    "mx-28-2",
+    "mx-64",
+    "mx-64-2",
+    "ph54-200-s500-r",
+    "rx-24f",
+    "rx-28",
+    "rx-64",
+    "xc330-t288",
+    "xc430-w150",
+    "xc430-w240",
+    "xh430-w210",
+    "xh430-w350",
+    "xh540-w150",
+    "xh540-w270",
+    "xl-320",
+    "xl330-m077",
+    "xl330-m288",
+    "xl430-w250",
+    "xm430-w210",
+    "xm430-w350",
+    "xm540-w150",
+    "xm540-w270",
+    "xw540-t260",
+)
+
+# Page name (fullmatch) -> behaviour family (docs/model-format.md `family`) and the e-Manual's
+# `page.product_group`. The first pattern that matches wins.
+PAGE_RULES = (
+    (r"xl-320", "xl320", "dxl_xl320"),
+    (r"xl330.*", "x", "xl330"),
+    (r"xc330.*", "x", "xc330"),
+    (r"2?x.*", "x", "dxl_x430"),
+    (r"mx-.*-2", "mx2", "dxl_mx2"),
+    (r"mx-.*", "mx1", "dxl_mx"),
+    (r"ax-.*", "ax", "dxl_ax"),
+    (r"rx-.*", "rx", "dxl_rx"),
+    (r"ex-.*", "ex", "dxl_ex"),
+    (r"ph.*", "p", "dxl_p"),
+    (r"h54.*", "pro", "dxl_pro"),
+)
+
+# Product groups whose decisions differ from the rest of their family (firmware version,
+# protocols, Protocol Type values, Indirect blocks): the X330 line of the X family.
+VARIANTS = {"xl330": "x330", "xc330": "x330"}
+
+
+def classify(name: str) -> tuple[str, str]:
+    """(family, product group) of the page `name`, from PAGE_RULES."""
+    for pattern, family, group in PAGE_RULES:
+        if re.fullmatch(pattern, name):
+            return family, group
+    raise SystemExit(f"convert_models: no family rule for page {name!r}")
+
+
+def variant_of(family: str, group: str) -> str:
+    """The key of the per-variant decisions: VARIANTS[group], else the family."""
+    return VARIANTS.get(group, family)

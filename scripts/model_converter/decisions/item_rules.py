@@ -1,0 +1,189 @@
+"""Item-level decisions, as data: the power-on values of items the pages print as '-', which
+items are signed, the accepted values of Operating Mode, Protocol Type and Baud Rate where the
+table's range is not the answer, bounds between items, ranges widened so that the factory value
+is accepted, and where MX(2.0) pages borrow their ranges. Each entry carries its note.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import EMANUAL_INCLUDES
+from .catalogue import P2_FAMILIES, V1_FAMILIES
+from .model_fields import EXTERNAL_BAUD
+
+# ---------------------------------------------------------------------------------------------
+# Power-on values
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class InitialRule:
+    """The power-on value of an item whose Initial Value cell is not a number ('-', 'Max Torque').
+
+    Exactly one of `value`, `copy_from` and `computed` is set. A rule that does not apply (its
+    `printed` pattern does not match, or nothing to compute from) leaves the item to ZERO_REASONS.
+    """
+    note: str                  # the item's note; {what} is the printed text, {value} the value chosen
+    value: int | None = None   # a fixed value
+    copy_from: str = ""        # initial_from: the item whose value is copied at power-on
+    computed: str = ""         # a value item_builder computes (its INITIAL_COMPUTATIONS)
+    printed: str = ""          # regex the printed text must match (case-insensitive), "" for any
+
+
+_MID_POSITION = InitialRule(
+    "initial: the page shows '-' (the position at power-on is not known to the table); {value} (mid-range "
+    "/ centre of travel) chosen, inside the range and the position limits", computed="mid_position")
+_SUPPLY_VOLTAGE = InitialRule(
+    "initial: the page shows '-'; {value} (midpoint of the factory Min/Max Voltage Limit {low} ~ {high}) "
+    "chosen as a plausible supply voltage", computed="supply_voltage")
+
+INITIAL_RULES = {
+    "firmware_version": InitialRule("initial: the page shows '-'; the model's firmware_version ({value})",
+                                    computed="firmware_version"),
+    "id": InitialRule("initial: the page shows '1, 2' (axis 1 and axis 2 of the dual-axis module); 1 is "
+                      "stored here and the emulator gives the second axis ID 2", value=1, printed=r"1,\s*2"),
+    "model_information": InitialRule("initial: the page shows '-' and does not describe the contents; 0 chosen",
+                                     value=0),
+    "torque_limit": InitialRule("initial: the page shows {what}; Torque Limit takes the value of Max Torque at "
+                                "power-on (Torque Limit description: 'the value of Max Torque ... is used as "
+                                "the initial value')", copy_from="max_torque", printed=r"max torque|-"),
+    "goal_pwm": InitialRule("initial: the page shows '-'; Goal PWM starts at PWM Limit (the X/MX(2.0) Goal PWM "
+                            "block's range row reads 'Initial Value of PWM Limit', and switching Operating Mode "
+                            "resets Goal PWM to PWM Limit)", copy_from="pwm_limit"),
+    "goal_current": InitialRule("initial: the page shows '-'; Goal Current starts at Current Limit (switching "
+                                "Operating Mode resets Goal Current to Current Limit, opmode block)",
+                                copy_from="current_limit"),
+    "goal_position": _MID_POSITION,
+    "present_position": _MID_POSITION,
+    "position_trajectory": _MID_POSITION,
+    "present_input_voltage": _SUPPLY_VOLTAGE,
+    "present_voltage": _SUPPLY_VOLTAGE,
+    "present_temperature": InitialRule("initial: the page shows '-'; 25 (room temperature, deg C) chosen",
+                                       value=25),
+    "acceleration_limit": InitialRule("initial: the page shows '-'; {value:,} (the top of the range, so the "
+                                      "factory setting refuses no Goal Acceleration) chosen", computed="range_top"),
+    "sensed_current": InitialRule("initial: the page shows '-'; 512 ('512 is equal to 0mA', description) chosen",
+                                  value=512),
+}
+
+# The centre of travel per family, the power-on value of the position items.
+MID_POSITION = {"x": 2048, "mx2": 2048, "mx1": 2048, "ex": 2048, "ax": 512, "rx": 512, "xl320": 512,
+                "p": 0, "pro": 0}
+
+# Why 0 is the power-on value of the other items the pages print as "-" (key pattern, reason).
+ZERO_REASONS = [
+    (r"goal_velocity", "motor at rest; Goal Velocity is only used once a velocity mode is commanded"),
+    (r"moving_speed", "0 means 'maximum speed, no speed control' in joint mode and stop in wheel mode"),
+    (r"realtime_tick", "the millisecond counter starts at power-on"),
+    (r"moving|moving_status", "not moving at power-on"),
+    (r"present_(pwm|current|velocity|load|speed)|velocity_trajectory", "motor at rest at power-on"),
+    (r"backup_ready", "no Control Table Backup exists in the factory state"),
+    (r"external_port_data_\d+", "nothing connected / outputs low at power-on"),
+    (r"profile_(acceleration|velocity)", "no profile, as on the X pages, whose initial value is 0"),
+]
+
+# ---------------------------------------------------------------------------------------------
+# Signedness
+# ---------------------------------------------------------------------------------------------
+
+# The 2.0 families report these R items in two's complement although the pages print no range.
+SIGNED_READBACK_FAMILIES = P2_FAMILIES
+SIGNED_READBACK = {"present_pwm", "present_current", "present_velocity", "present_position",
+                   "present_load", "velocity_trajectory", "position_trajectory"}
+
+# Families whose device writes -1 into Bus Watchdog on a timeout (Bus Watchdog include).
+BUS_WATCHDOG_FAMILIES = {"x", "mx2", "p"}
+
+# Model notes on signedness: (families, note).
+SIGNED_MODEL_NOTES = [
+    (P2_FAMILIES, "signed: Present PWM/Current/Load/Velocity/Position and Velocity/Position Trajectory print no "
+                  "range but are two's-complement values on Protocol 2.0 devices (README behaviour 20); they are "
+                  "marked signed"),
+    (V1_FAMILIES | {"xl320"}, "signed: Present Speed / Present Load (and Moving Speed, Goal Torque) encode the "
+                              "direction in bit 10 (0 ~ 2,047), so they stay unsigned"),
+]
+
+# ---------------------------------------------------------------------------------------------
+# Accepted values
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class OpmodeBlock:
+    """An Operating Mode block a page may show, and the include whose Value table lists the modes."""
+    markers: tuple         # any of these in the page text selects the block
+    include: str
+    note: str = ""         # "" for the usual "values: the modes listed in <include>.md ..."
+    without_item: str = ""  # the note's reasoning needs the model to have no such item
+
+
+# The first block the page shows wins (pages that print the list themselves, P and PRO, skip this).
+OPMODE_BLOCKS = [
+    OpmodeBlock(("ControlTableOpmodeSix2", "control_table_opmode_six_2.md"), "control_table_opmode_six_2"),
+    OpmodeBlock(("ControlTableMxOpmode2", "control_table_mx_opmode_2.md"), "control_table_mx_opmode_2"),
+    OpmodeBlock(("<OperatingModeXl />",), "control_table_mx_opmode_2",
+                note="values: the page's <OperatingModeXl /> block is not in the reference; this model has no "
+                     "Goal Current item (no current sensing), so the four non-current modes of "
+                     "control_table_mx_opmode_2.md are used: 1, 3, 4, 16",
+                without_item="goal_current"),
+]
+
+# Protocol Type values per variant: the include whose Value table lists them, and the note
+# ({values} is the list).
+PROTOCOL_TYPE_BLOCKS = {
+    "x330": ("control_table_protocolversion",
+             "values: the table prints 2 ~ 22; the accepted values are those of the XL330/XC330 Protocol Type "
+             "block (control_table_protocolversion.md): {values}"),
+}
+
+# Baud Rate values per family where the table's range names indices that select no rate.
+BAUD_RATE_VALUES = {
+    "pro": ([i for i, _ in EXTERNAL_BAUD["pro"][0]],
+            f"values: the table prints 0 ~ 13 but the PRO Baud Rate include ({EXTERNAL_BAUD['pro'][1]}) defines "
+            "only 0 ~ 8; values 9 ~ 13 select no bit rate, so only 0 ~ 8 are accepted"),
+}
+
+# ---------------------------------------------------------------------------------------------
+# Bounds and widened ranges
+# ---------------------------------------------------------------------------------------------
+
+# Families where CW/CCW Angle Limit bound Goal Position in joint mode only, and the other modes
+# besides wheel mode where they do not apply.
+ANGLE_LIMIT_FAMILIES = {"ax": "", "rx": "", "ex": "", "xl320": "", "mx1": ", or multi-turn mode (both 4,095)"}
+
+# Bounds the tables do not print, per family: (item, bounding item for limit_max, note). The
+# static max becomes the lower of the two.
+LIMIT_MAX_OVERRIDES = {
+    "mx2": [("profile_acceleration", "acceleration_limit",
+             "limit_max: acceleration_limit: 'Profile Acceleration(108) can't be configured with any values "
+             f"exceeding Acceleration Limit(40)' ({EMANUAL_INCLUDES}control_table_acclimit.md, not in the "
+             "reference)")],
+}
+
+# Items whose printed range excludes their factory value: the max accepted instead, and the note
+# ({min} ~ {max} is the printed range, {initial} the factory value).
+WIDEN_TO_FACTORY = {
+    "secondary_id": (255, "range: {min} ~ {max} is printed but the factory value is {initial}; the Secondary "
+                          "ID include says '0 ~ 252 Activate Secondary ID function, 253 ~ 255 Deactivate "
+                          f"Secondary ID function, Default value 255' ({EMANUAL_INCLUDES}control_table_shadowid.md, "
+                          "not in the reference), so 0 ~ 255 is accepted"),
+}
+
+# ---------------------------------------------------------------------------------------------
+# Range donors
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RangeDonors:
+    """Pages whose tables print the ranges a family's pages leave out: both describe the items with
+    the same include blocks."""
+    label: str       # how the note names the borrowing family's pages
+    pages: tuple     # the donor pages (converted ones), in the order they are asked
+
+
+RANGE_DONORS = {"mx2": RangeDonors("MX(2.0)", ("xm430-w350", "xl430-w250"))}
+
+# Names that differ between a page and its donor page.
+NAME_ALIASES = {"protocol version": "protocol type"}

@@ -1,0 +1,142 @@
+"""Model-level decisions, as data: the fields of a model that the pages do not state (firmware
+version, reply timing, boot time, protocols, degrees per pulse), baud tables that were not
+copied, the Indirect blocks the pages must show, and the dual-axis modules. Each entry carries the
+note written into the model with it. Tables keyed by variant fall back to the family where the
+variant has no entry of its own (catalogue.py).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+from . import EMANUAL_INCLUDES
+
+# Firmware Version: the pages print "-". Lowest version that has every instruction and item the
+# page shows, per ../protocol2.md, ../protocol1.md and the includes.
+FIRMWARE = {
+    "x": (45, "firmware_version: the page shows '-'; 45 is the lowest X430/540 firmware with every "
+              "feature the table and protocol2.md describe: Fast Sync Read / Fast Bulk Read (X430/540 "
+              "fw v45+), Startup Configuration(60) ('available from firmware V45'), the broadcast "
+              "Factory Reset 0xFF guard (fw 42+), time-based profiles (fw 42+), Bus Watchdog (v38+)"),
+    "x330": (46, "firmware_version: the page shows '-'; 46 is the lowest X330 firmware with Fast Sync "
+                 "Read / Fast Bulk Read (protocol2.md: X330 fw v46+), which also covers the Factory "
+                 "Reset broadcast guard (fw 42+) and Startup Configuration(60)"),
+    "mx2": (42, "firmware_version: the page shows '-'; 42 covers the broadcast Factory Reset 0xFF guard "
+                "(protocol2.md: 'MX(2.0) FW42') and time-based profiles (fw 42); Fast Sync/Bulk Read "
+                "are not supported on MX(2.0) at any version"),
+    "mx1": (40, "firmware_version: the page shows '-'; 40 is the first MX Protocol 1.0 firmware with "
+                "the Reboot instruction (protocol1.md: 'MX-28/64/106(V40)') and Realtime Tick(50) "
+                "('available from Firmware v40')"),
+    "p": (12, "firmware_version: the page shows '-'; 12 is the lowest P-series firmware with Fast Sync "
+              "Read / Fast Bulk Read (protocol2.md: 'P Series(Fw v12 or above)')"),
+    "pro": (1, "firmware_version: the page shows '-'; no instruction or item of the legacy PRO table "
+               "depends on a firmware version in the reference, so 1 is an arbitrary placeholder"),
+    "xl320": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the XL-320 "
+                 "firmware version, so 1 is an arbitrary placeholder"),
+    "ax": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the AX "
+              "firmware version, so 1 is an arbitrary placeholder"),
+    "rx": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the RX "
+              "firmware version, so 1 is an arbitrary placeholder"),
+    "ex": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the EX "
+              "firmware version, so 1 is an arbitrary placeholder"),
+}
+
+# Reply timing per family: the figures and the note. Only the AX-12 is measured.
+_TIMING_AX = ({"ping_us": 18, "read_us": 22, "write_us": 24, "write_per_byte_us": 6},
+              "timing: ping 18 us, read 22 us, write 24 us + 6 us per data byte, as measured on an AX-12 "
+              "(figures given with the converter's brief); used for RX and EX as the same Protocol 1.0 "
+              "generation")
+_TIMING_OTHER = ({"ping_us": 50, "read_us": 50, "write_us": 50, "write_per_byte_us": 0},
+                 "timing: 50 us for ping, read and write, none per byte ('MX about 50 us'); the same figure "
+                 "is used for X, XL-320, P and PRO, for which nothing is measured")
+TIMING = {"ax": _TIMING_AX, "rx": _TIMING_AX, "ex": _TIMING_AX, "mx1": _TIMING_OTHER, "mx2": _TIMING_OTHER,
+          "x": _TIMING_OTHER, "xl320": _TIMING_OTHER, "p": _TIMING_OTHER, "pro": _TIMING_OTHER}
+
+BOOT_MS = 400
+BOOT_URL = "https://github.com/ROBOTIS-GIT/emanual/issues/1698"
+BOOT_NOTE = (f"timing.boot_ms: {BOOT_MS} ms. The e-Manual gives no figure; the only stated one found is "
+             f"ROBOTIS-GIT/emanual issue #1698 ({BOOT_URL}): XC330 servos answer the Reboot instruction "
+             "at once, then 'refuse to reply for about 0.4 seconds while rebooting' (the maintainers "
+             "declined to document it). No per-model figure exists, so 400 ms is used for every model "
+             "(Dynamixel2Arduino waits up to 3 s, an upper bound rather than a measurement)")
+
+RETURN_DELAY_UNIT_US = 2
+RETURN_DELAY_NOTE = "return_delay_unit_us: 2 (Return Delay Time include: 'its unit is 2 [usec]')"
+
+DEFAULT_ID = 1
+
+# Protocols per variant, and the note where the list needs one.
+_PROTOCOLS_1 = ([1], None)
+_PROTOCOLS_2_AND_1 = ([2, 1], "protocols: 2.0 by default, 1.0 through Protocol Type(13) = 1")
+PROTOCOLS = {
+    "ax": _PROTOCOLS_1, "rx": _PROTOCOLS_1, "ex": _PROTOCOLS_1, "mx1": _PROTOCOLS_1,
+    "x": _PROTOCOLS_2_AND_1, "mx2": _PROTOCOLS_2_AND_1,
+    "x330": ([2], "protocols: 2.0 only; Protocol Type 20/21/22 select RC receiver protocols (S.BUS, iBUS, "
+                  "RC-PWM), which are not DYNAMIXEL bus protocols"),
+    "p": ([2], "protocols: 2.0 only; Protocol Type 10 (Modbus-RTU) is accepted by the item but is not a "
+               "DYNAMIXEL protocol and is not listed"),
+    "pro": ([2], None),
+    "xl320": ([2], None),
+}
+
+# Baud tables that are not in the offline reference (P and PRO includes were not copied).
+EXTERNAL_BAUD = {
+    "p": ([(0, 9600), (1, 57600), (2, 115200), (3, 1000000), (4, 2000000), (5, 3000000),
+           (6, 4000000), (7, 4500000), (8, 6000000), (9, 10500000)],
+          EMANUAL_INCLUDES + "p/control_table_8_baud_rate.md"),
+    "pro": ([(0, 9600), (1, 57600), (2, 115200), (3, 1000000), (4, 2000000), (5, 3000000),
+             (6, 4000000), (7, 4500000), (8, 10500000)],
+            EMANUAL_INCLUDES + "control_table_8_baudrate_pro.md"),
+}
+
+# Families whose Baud Rate value n means 2,000,000/(n+1) bps, beyond the values their table lists.
+BAUD_FORMULA_FAMILIES = {"ax", "rx", "ex", "mx1"}
+BAUD_FORMULA_NOTE = ("baud_rates: Baud Rate value n means 2,000,000/(n+1) bps for every n in 0 ~ 254 (MX 1.0: "
+                     "250/251/252 are 2.25M/2.5M/3M); only the values the page's table lists are enumerated "
+                     "(the format cannot state the formula); the item accepts 0 ~ 254")
+
+# Degrees per encoder pulse per family, and the note.
+_DPP_4096 = (360 / 4096, "motion.degrees_per_pulse: 360/4096 (4,096 pulses per revolution, Unit column "
+                         "'1 [pulse]' / models.tsv '4096 pulse/rev')")
+_DPP_300_DEG = (300 / 1024, "motion.degrees_per_pulse: 300/1024 = 0.29296875 (the spec's 'Resolution 0.29 deg': "
+                            "Goal Position 0 ~ 1,023 over 0 ~ 300 deg, 512 = 150 deg)")
+DEGREES_PER_PULSE = {
+    "x": _DPP_4096, "mx2": _DPP_4096, "mx1": _DPP_4096,
+    "ax": _DPP_300_DEG, "rx": _DPP_300_DEG, "xl320": _DPP_300_DEG,
+    "ex": (251 / 4096, "motion.degrees_per_pulse: 251/4096 = 0.0613 (spec: 'Resolution 0.06 deg', 'Running "
+                       "Degree 0 ~ 251 deg' over 4,096 positions); the page's Goal Position text still says "
+                       "0.29 deg (inherited from RX pages, see README inconsistencies)"),
+    "p": (float(Fraction(180, 501923)), "motion.degrees_per_pulse: 180/501,923 (Goal Position description: "
+                                        "-180 ~ 180 deg = -501,923 ~ 501,923)"),
+    "pro": (float(Fraction(180, 250961)), "motion.degrees_per_pulse: 180/250,961, derived from the default "
+                                          "position limits +-250,961 taken as +-180 deg (models.tsv: 'derived "
+                                          "from defaults, not stated')"),
+}
+
+# Expected Indirect Address / Data blocks: (first n, last n, first address, first data address).
+INDIRECT_BLOCKS = {
+    "x": [(1, 28, 168, 224), (29, 56, 578, 634)],   # README behaviour 22, X/MX(2.0) pages
+    "x330": [(1, 28, 168, 224)],                      # XL330/XC330: only 1 ~ 28
+    "mx2": [(1, 28, 168, 224), (29, 56, 578, 634)],
+    "p": [(1, 128, 168, 634)],                       # PH54 page: 168 ~ 422, data 634 ~ 761
+    "pro": [(1, 256, 49, 634)],                      # H54 page: 49 ~ 559, data 634 ~ 889
+}
+
+
+@dataclass(frozen=True)
+class DualAxis:
+    """A module of two servos behind one control table (docs/control-table.md)."""
+    shared_items: tuple      # items both axes share
+    default_id_note: str
+    note: str
+
+
+DUAL_AXIS = {
+    "2xl430-w250": DualAxis(
+        ("baud_rate", "protocol_type"),
+        "default_id: 1 for the first axis; the second axis of the module is ID 2 (ID(7) initial '1, 2')",
+        "axes: two axes, each with this control table; Baud Rate(8) and Protocol Type(13) are shared "
+        "('Attempting to change the Baud Rate of one joint will also affect the other joint'); EEPROM is "
+        "writable only while both axes have Torque Enable 0 (README 16)"),
+}

@@ -1,0 +1,229 @@
+"""One control-table page of the reference, parsed: the EEPROM and RAM tables as rows (elided
+'…' series expanded), and the 'Control Table Description' sections with the addresses their
+headings name.
+
+This is what the page prints, nothing decided: the builder turns it into a model.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .markdown import Table, camel_to_include, clean_cell, parse_int, tables_in
+from .reference import TAG_ALIASES, Reference
+
+
+@dataclass
+class Row:
+    """One control-table row as printed (after ellipsis expansion, `expanded` is True)."""
+    address: int
+    size: int
+    name: str
+    access: str
+    initial: str
+    range: str
+    unit: str
+    minmax: tuple | None      # XL-320 Min/Max columns
+    area: str
+    expanded: bool = False
+
+
+@dataclass
+class Section:
+    """A 'Control Table Description' section: its heading, addresses and text."""
+    title: str
+    addresses: list[int]
+    start: int
+    end: int
+
+
+@dataclass
+class Page:
+    """A parsed page; `columns` are the meanings its table headers have (map_columns)."""
+    name: str
+    family: str
+    group: str
+    lines: list[str]
+    rows: list[Row]
+    sections: list[Section]
+    columns: set
+
+    @property
+    def text(self) -> str:
+        """The whole page."""
+        return "\n".join(self.lines)
+
+    def section_for(self, address: int) -> list[Section]:
+        """The description sections whose heading names `address`."""
+        return [s for s in self.sections if address in s.addresses]
+
+    def section_text(self, sec: Section, ref: Reference) -> str:
+        """Section text with its include tags expanded (includes that were copied)."""
+        chunk = "\n".join(self.lines[sec.start:sec.end])
+
+        def expand_tag(m):
+            inc = ref.include(TAG_ALIASES.get(camel_to_include(m.group(1)), camel_to_include(m.group(1))),
+                              self.group)
+            return inc if inc is not None else m.group(0)
+
+        def expand_liquid(m):
+            inc = ref.include(m.group(1), self.group)
+            return inc if inc is not None else m.group(0)
+
+        chunk = re.sub(r"<(ControlTable\w+)\s*/>", expand_tag, chunk)
+        return re.sub(r"{%\s*include\s+en/dxl/([\w]+)\.md\s*%}", expand_liquid, chunk)
+
+
+COLUMN_PATTERNS = [
+    ("address", r"^address$"), ("size", r"^size"), ("name", r"^data name$"),
+    ("description", r"^description$"), ("access", r"^access$"), ("initial", r"^initial"),
+    ("range", r"^range$"), ("unit", r"^unit$"), ("min", r"^min$"), ("max", r"^max$"),
+    ("modbus", r"modbus"),
+]
+
+
+def map_columns(header: list[str]) -> dict[str, int]:
+    """Column index by meaning, located by header text (column sets differ between pages)."""
+    cols = {}
+    for idx, h in enumerate(header):
+        for key, pat in COLUMN_PATTERNS:
+            if re.search(pat, h.lower()) and key not in cols:
+                cols[key] = idx
+                break
+    for needed in ("address", "size", "name", "access", "initial"):
+        if needed not in cols:
+            raise ValueError(f"control table header lacks {needed!r}: {header}")
+    return cols
+
+
+def control_tables(lines: list[str]) -> list[tuple[str, Table]]:
+    """The EEPROM and RAM tables: first table after a 'Control Table of ... Area' heading."""
+    found = []
+    for i, line in enumerate(lines):
+        m = re.match(r"#+\s.*Control Table of (EEPROM|RAM) Area", line)
+        if m:
+            tabs = tables_in(lines, i + 1, min(len(lines), i + 400))
+            if not tabs:
+                raise ValueError(f"no table after {line!r}")
+            found.append((m.group(1), tabs[0]))
+    return found
+
+
+def read_rows(area: str, table: Table) -> list[dict]:
+    """The cells of each row by meaning, cleaned (ellipsis rows included, see expand_ellipses)."""
+    cols = map_columns(table.header)
+    out = []
+    for cells, raw in zip(table.rows, table.raw_rows):
+        if len(cells) < len(table.header):
+            cells = cells + [""] * (len(table.header) - len(cells))
+
+        def cell(key, raw_cell=False):
+            if key not in cols:
+                return ""
+            return cells[cols[key]] if raw_cell else clean_cell(cells[cols[key]])
+
+        out.append({
+            "area": area, "address": cell("address"), "size": cell("size"), "name": cell("name"),
+            "access": cell("access"), "initial": cell("initial"), "range": cell("range"),
+            "unit": clean_cell(re.sub(r"<br\s*/?>", " / ", cell("unit", raw_cell=True))) if "unit" in cols else "",
+            "min": cell("min"), "max": cell("max"),
+            "has_minmax": "min" in cols, "raw": raw,
+        })
+    return out
+
+
+def is_ellipsis_row(r: dict) -> bool:
+    """A row standing for an elided series: its Address cell is no number ('…')."""
+    return parse_int(r["address"]) is None
+
+
+def numbered(name: str) -> tuple[str, int] | None:
+    """'Indirect Address 27' -> ('Indirect Address', 27); None without a trailing number."""
+    m = re.fullmatch(r"(.*?)\s*(\d+)", name)
+    return (m.group(1), int(m.group(2))) if m else None
+
+
+def expand_ellipses(raw: list[dict]) -> list[Row]:
+    """Replace '…' rows by the series they stand for, from the two rows before and the row after.
+
+    Address step and initial-value step come from the two preceding rows; the row after the
+    ellipsis must land exactly where the series predicts, otherwise the page is not understood.
+    """
+    rows: list[Row] = []
+
+    def to_row(r: dict, expanded=False) -> Row:
+        mm = None
+        if r["has_minmax"]:
+            mm = (r["min"], r["max"])
+        return Row(parse_int(r["address"]), parse_int(r["size"]), r["name"], r["access"], r["initial"],
+                   r["range"], r["unit"], mm, r["area"], expanded)
+
+    i = 0
+    while i < len(raw):
+        r = raw[i]
+        if not is_ellipsis_row(r):
+            row = to_row(r)
+            if row.size is None:
+                raise ValueError(f"row without a size: {r['raw']}")
+            rows.append(row)
+            i += 1
+            continue
+        if len(rows) < 2 or i + 1 >= len(raw):
+            raise ValueError(f"ellipsis row without neighbours: {r['raw']}")
+        prev2, prev, nxt = rows[-2], rows[-1], to_row(raw[i + 1])
+        a, b, c = numbered(prev2.name), numbered(prev.name), numbered(nxt.name)
+        if not (a and b and c) or not (a[0] == b[0] == c[0]) or b[1] != a[1] + 1:
+            raise ValueError(f"cannot expand ellipsis between {prev.name!r} and {nxt.name!r}")
+        base, count = b[0], c[1] - b[1] - 1
+        step = prev.address - prev2.address
+        init_a, init_b, init_c = parse_int(prev2.initial), parse_int(prev.initial), parse_int(nxt.initial)
+        init_step = (init_b - init_a) if init_a is not None and init_b is not None else None
+        if prev.address + step * (count + 1) != nxt.address:
+            raise ValueError(f"ellipsis before {nxt.name}: address series does not reach {nxt.address}")
+        if init_step is not None and init_c is not None and init_b + init_step * (count + 1) != init_c:
+            raise ValueError(f"ellipsis before {nxt.name}: initial series does not reach {init_c}")
+        for k in range(1, count + 1):
+            initial = str(init_b + init_step * k) if init_step is not None else prev.initial
+            rows.append(Row(prev.address + step * k, prev.size, f"{base} {b[1] + k}", prev.access, initial,
+                            prev.range, prev.unit, prev.minmax, prev.area, expanded=True))
+        i += 1
+    return rows
+
+
+HEADING_RE = re.compile(r"^(#{2,5})\s+(.*)$")
+
+
+def description_sections(lines: list[str]) -> list[Section]:
+    """Sections below 'Control Table Description', with the addresses named in their heading."""
+    start = next((i for i, l in enumerate(lines) if re.match(r"#+\s.*Control Table Description", l)), None)
+    if start is None:
+        return []
+    heads = []
+    for i in range(start + 1, len(lines)):
+        m = HEADING_RE.match(lines[i])
+        if m:
+            heads.append((i, clean_cell(m.group(2))))
+    sections = []
+    for n, (i, title) in enumerate(heads):
+        end = heads[n + 1][0] if n + 1 < len(heads) else len(lines)
+        addrs = []
+        for group in re.findall(r"\(([\d,\s]+)\)", title):
+            addrs += [int(x) for x in re.findall(r"\d+", group)]
+        sections.append(Section(title, addrs, i + 1, end))
+    return sections
+
+
+def read_page(ref: Reference, name: str, family: str, group: str) -> Page:
+    """control-tables/<name>.md parsed; `family` and `group` (the e-Manual product group, which
+    picks the Liquid branches of its includes) come from decisions/catalogue.py."""
+    lines = ref.text(f"control-tables/{name}.md").splitlines()
+    raw, columns = [], set()
+    tabs = control_tables(lines)
+    if [a for a, _ in tabs] != ["EEPROM", "RAM"]:
+        raise ValueError(f"{name}: expected an EEPROM and a RAM table, found {[a for a, _ in tabs]}")
+    for area, table in tabs:
+        columns |= set(map_columns(table.header))
+        raw += read_rows(area, table)
+    rows = expand_ellipses(raw)
+    return Page(name, family, group, lines, rows, description_sections(lines), columns)

@@ -1,0 +1,379 @@
+"""Unit tests of the model converter (scripts/model_converter): the Markdown and page parsing, the
+Range cells and range arithmetic, the order in which an item's range is decided, and the
+decision tables' coverage of every family. Standard library only; pages are written into a
+temporary reference directory, so ../shared/reference is not needed."""
+import sys
+import tempfile
+import textwrap
+import unittest
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+
+from model_converter import item_builder, item_ranges  # noqa: E402
+from model_converter.decisions import catalogue, item_rules, model_fields  # noqa: E402
+from model_converter.items import Draft  # noqa: E402
+from model_converter.markdown import (camel_to_include, clean_cell, clean_unit, parse_bps, parse_int,  # noqa: E402
+                                      select_liquid_branch, snake_key, tables_in, unit_number)
+from model_converter.page import description_sections, expand_ellipses, map_columns, read_page  # noqa: E402
+from model_converter.ranges import evidence_found, find_choice, full_width, parse_range, rc  # noqa: E402
+from model_converter.reference import Reference  # noqa: E402
+from model_converter.spec_table import parse_spec_table  # noqa: E402
+
+HEADER = ("| Address | Size(Byte) | Data Name | Access | Initial Value | Range | Unit |\n"
+          "|---|---|---|---|---|---|---|\n")
+
+
+def page_text(eeprom: str, ram: str, descriptions: str = "") -> str:
+    """A control-table page in the reference's layout."""
+    return (f"# TEST-1 — control table\n\n## Control Table of EEPROM Area\n\n{HEADER}{textwrap.dedent(eeprom)}\n"
+            f"## Control Table of RAM Area\n\n{HEADER}{textwrap.dedent(ram)}\n"
+            f"## Control Table Description\n\n{textwrap.dedent(descriptions)}")
+
+
+class TempReference:
+    """A reference directory with the given pages and includes, and a models.tsv naming them."""
+
+    def __init__(self, pages: dict, includes: dict | None = None):
+        self.dir = tempfile.TemporaryDirectory()
+        root = Path(self.dir.name)
+        (root / "control-tables" / "includes").mkdir(parents=True)
+        for name, text in pages.items():
+            (root / "control-tables" / f"{name}.md").write_text(text, encoding="utf-8")
+        for name, text in (includes or {}).items():
+            (root / "control-tables" / "includes" / f"{name}.md").write_text(text, encoding="utf-8")
+        rows = "".join(f"{n}\t{n}.md\n" for n in pages)
+        (root / "models.tsv").write_text("model\tcontrol_table_file\n" + rows, encoding="utf-8")
+        self.ref = Reference(root)
+
+    def close(self):
+        self.dir.cleanup()
+
+
+class MarkdownTest(unittest.TestCase):
+    def test_a_cell_loses_links_html_entities_emphasis_and_escapes(self):
+        self.assertEqual(clean_cell(" [Goal Position](#goal-position) "), "Goal Position")
+        self.assertEqual(clean_cell("**1**<br>2"), "1 2")
+        self.assertEqual(clean_cell("rev/min<sup>2</sup>"), "rev/min²")
+        self.assertEqual(clean_cell("0.06&deg; 2\\~3 _Modbus_ `x`"), "0.06° 2~3 Modbus x")
+
+    def test_numbers_take_thousands_separators_only_in_groups_of_three(self):
+        self.assertEqual(parse_int("1,044,479"), 1044479)
+        self.assertEqual(parse_int(" -501,923 "), -501923)
+        self.assertEqual(parse_int("−5"), -5)
+        self.assertEqual(parse_int("250"), 250)
+        self.assertIsNone(parse_int("1,2"))
+        self.assertIsNone(parse_int("Max Torque"))
+        self.assertIsNone(parse_int("-"))
+
+    def test_pipe_tables_are_found_between_text_with_clean_headers_and_raw_cells(self):
+        lines = ["text", "| **Value** | Baud |", "|:---:|---|", "| 0 | [9,600](#x) |", "", "| a | b |",
+                 "| -- | -- |", "| 1 | 2 |"]
+        tabs = tables_in(lines)
+        self.assertEqual([t.line for t in tabs], [1, 5])
+        self.assertEqual(tabs[0].header, ["Value", "Baud"])
+        self.assertEqual(tabs[0].rows, [[" 0 ", " [9,600](#x) "]])
+        self.assertEqual(tables_in(lines, 0, 4)[0].rows, [[" 0 ", " [9,600](#x) "]])
+
+    def test_keys_are_snake_case_without_parenthesised_parts(self):
+        self.assertEqual(snake_key("Goal Position"), "goal_position")
+        self.assertEqual(snake_key("Secondary(Shadow) ID"), "secondary_id")
+        self.assertEqual(snake_key("Indirect Address 12"), "indirect_address_12")
+
+    def test_include_tags_name_their_files(self):
+        self.assertEqual(camel_to_include("ControlTableOpmodeSix2"), "control_table_opmode_six_2")
+
+    def test_the_liquid_branch_of_the_product_group_is_kept(self):
+        text = ("a{% if page.product_group=='xl330' %}X{% elsif page.product_group=='dxl_x430' %}Y"
+                "{% else %}Z{% endif %}b{% if page.product_group!='xl330' %}N{% endif %}")
+        self.assertEqual(select_liquid_branch(text, "xl330"), "aXb")
+        self.assertEqual(select_liquid_branch(text, "dxl_x430"), "aYbN")
+        self.assertEqual(select_liquid_branch(text, "dxl_mx"), "aZbN")
+
+    def test_units_and_bit_rates_read_as_printed(self):
+        self.assertEqual(clean_unit("about 0.229 [ rev/min ]"), "about 0.229 [rev/min]")
+        self.assertIsNone(clean_unit(" - "))
+        self.assertEqual(unit_number("about 0.229 [rev/min]"), 0.229)
+        self.assertIsNone(unit_number("[pulse]"))
+        self.assertEqual(parse_bps("57,600"), 57600)
+        self.assertEqual(parse_bps("4.5M"), 4500000)
+        self.assertEqual(parse_bps("1 Mbps"), 1000000)
+        self.assertEqual(parse_bps("9,600 [bps]"), 9600)
+        self.assertIsNone(parse_bps("reserved"))
+
+
+def row(address, size, name, initial="0", access="RW", range_="-", area="RAM", unit="-"):
+    """A read_rows() row as the page parser hands it to expand_ellipses."""
+    return {"area": area, "address": str(address), "size": str(size), "name": name, "access": access,
+            "initial": str(initial), "range": range_, "unit": unit, "min": "", "max": "", "has_minmax": False,
+            "raw": f"| {address} | {name} |"}
+
+
+ELLIPSIS = row("…", "…", "…", "…", "…")
+
+
+class PageTest(unittest.TestCase):
+    def test_columns_are_located_by_their_header_text(self):
+        cols = map_columns(["Address", "Size (Byte)", "Data Name", "Access", "Initial Value", "Min", "Max"])
+        self.assertEqual(cols, {"address": 0, "size": 1, "name": 2, "access": 3, "initial": 4, "min": 5, "max": 6})
+        with self.assertRaisesRegex(ValueError, "lacks 'access'"):
+            map_columns(["Address", "Size", "Data Name", "Initial Value"])
+
+    def test_an_ellipsis_row_expands_to_the_series_it_stands_for(self):
+        rows = expand_ellipses([row(168, 2, "Indirect Address 1", 224), row(170, 2, "Indirect Address 2", 225),
+                                ELLIPSIS, row(176, 2, "Indirect Address 5", 228)])
+        self.assertEqual([(r.address, r.name, r.initial, r.expanded) for r in rows],
+                         [(168, "Indirect Address 1", "224", False), (170, "Indirect Address 2", "225", False),
+                          (172, "Indirect Address 3", "226", True), (174, "Indirect Address 4", "227", True),
+                          (176, "Indirect Address 5", "228", False)])
+
+    def test_an_ellipsis_the_next_row_does_not_continue_is_refused(self):
+        with self.assertRaisesRegex(ValueError, "address series does not reach 178"):
+            expand_ellipses([row(168, 2, "Indirect Address 1"), row(170, 2, "Indirect Address 2"), ELLIPSIS,
+                             row(178, 2, "Indirect Address 5")])
+        with self.assertRaisesRegex(ValueError, "initial series"):
+            expand_ellipses([row(224, 1, "Indirect Data 1", 0), row(225, 1, "Indirect Data 2", 1), ELLIPSIS,
+                             row(228, 1, "Indirect Data 5", 9)])
+        with self.assertRaisesRegex(ValueError, "cannot expand"):
+            expand_ellipses([row(224, 1, "LED"), row(225, 1, "Indirect Data 2"), ELLIPSIS,
+                             row(228, 1, "Indirect Data 5")])
+
+    def test_description_sections_name_the_addresses_of_their_heading(self):
+        lines = ["## Control Table Description", "### [Goal Position](#x)(116)", "text", "### Indirect Data(224, 225)",
+                 "more"]
+        secs = description_sections(lines)
+        self.assertEqual([(s.title, s.addresses, s.start, s.end) for s in secs],
+                         [("Goal Position(116)", [116], 2, 3), ("Indirect Data(224, 225)", [224, 225], 4, 5)])
+
+    def test_a_page_is_its_two_tables_and_its_sections_with_includes_expanded(self):
+        text = page_text("| 0 | 2 | [Model Number](#m) | R | 1,200 | - | - |\n",
+                         "| 64 | 1 | Torque Enable | RW | 0 | 0 ~ 1 | - |\n",
+                         "### Torque Enable(64)\n<ControlTableTorqueEnable />\n")
+        include = "{% if page.product_group=='xl330' %}XL330 text{% else %}other text{% endif %}"
+        tmp = TempReference({"test-1": text}, {"control_table_torque_enable": include})
+        self.addCleanup(tmp.close)
+        page = read_page(tmp.ref, "test-1", "x", "xl330")
+        self.assertEqual([(r.address, r.size, r.name, r.access, r.initial, r.area) for r in page.rows],
+                         [(0, 2, "Model Number", "R", "1,200", "EEPROM"), (64, 1, "Torque Enable", "RW", "0", "RAM")])
+        self.assertIn("range", page.columns)
+        (sec,) = page.section_for(64)
+        self.assertEqual(page.section_text(sec, tmp.ref).strip(), "XL330 text")
+
+    def test_a_page_without_an_eeprom_and_a_ram_table_is_refused(self):
+        ram_only = "## Control Table of RAM Area\n\n" + HEADER + "| 64 | 1 | LED | RW | 0 | - | - |\n"
+        tmp = TempReference({"test-1": ram_only})
+        self.addCleanup(tmp.close)
+        with self.assertRaisesRegex(ValueError, "expected an EEPROM and a RAM table"):
+            read_page(tmp.ref, "test-1", "x", "dxl_x430")
+
+    def test_the_specifications_table_gives_the_figures_at_the_recommended_voltage(self):
+        lines = ["| Item | Specifications |", "|---|---|",
+                 "| Input Voltage | 10.0 ~ 14.8 [V] (**Recommended : 12.0 [V]**) |",
+                 "| Stall Torque | 3.8 [N.m] (at 11.1 [V], 2.1 [A])<br>**4.1 [N.m] (at 12.0 [V], 2.3 [A])** |",
+                 "| No Load Speed | 43 [rev/min] (at 11.1 [V])<br>**46 [rev/min] (at 12.0 [V])** |"]
+        spec = parse_spec_table(lines)
+        self.assertEqual((spec.rpm, spec.nm, spec.amps, spec.volts), (46, 4.1, 2.3, 12.0))
+        self.assertIn("recommended input voltage", spec.detail)
+        self.assertIsNone(parse_spec_table(["| Item | Specifications |", "|---|---|", "| Weight | 82 [g] |"]))
+
+
+class RangeCellTest(unittest.TestCase):
+    def test_a_numeric_range(self):
+        spec = parse_range(" 0 ~ 4,095 ")
+        self.assertEqual((spec.min, spec.max, spec.values, spec.raw), (0, 4095, None, "0 ~ 4,095"))
+
+    def test_no_range(self):
+        for cell in ("", "-", "…", " ... "):
+            self.assertIsNone(parse_range(cell))
+
+    def test_bounds_named_by_other_items(self):
+        spec = parse_range("[Min Position Limit(52)](#x) ~ Max Position Limit(48)")
+        self.assertEqual((spec.min, spec.max), (None, None))
+        self.assertEqual(spec.lo_ref, (False, "Min Position Limit", 52))
+        self.assertEqual(spec.hi_ref, (False, "Max Position Limit", 48))
+        spec = parse_range("-PWM Limit(36) ~ PWM Limit(36)")
+        self.assertEqual(spec.lo_ref, (True, "PWM Limit", 36))
+
+    def test_a_number_on_one_side_and_a_bound_on_the_other(self):
+        spec = parse_range("0 ~ Velocity Limit(44)")
+        self.assertEqual((spec.min, spec.hi_ref), (0, (False, "Velocity Limit", 44)))
+
+    def test_two_ranges_in_one_cell_keep_the_first_and_the_rest_as_extra(self):
+        spec = parse_range("0 ~ 32,767<br>0 ~ 32,737")
+        self.assertEqual((spec.min, spec.max, spec.extra), (0, 32767, [(0, 32737)]))
+        spec = parse_range("0 ~ 252 (DYNAMIXEL Protocol 2.0)<br>1 ~ 247 (Modbus)")
+        self.assertEqual((spec.min, spec.max, spec.extra), (0, 252, [(1, 247)]))
+
+    def test_a_list_of_values_and_a_lone_number(self):
+        self.assertEqual(parse_range("0, 1, 3, 4, 16").values, [0, 1, 3, 4, 16])
+        spec = parse_range("3")
+        self.assertEqual((spec.values, spec.min), ([3], None))
+
+    def test_a_cell_that_is_not_a_range_is_refused(self):
+        for cell in ("see below", "0 ~ lots"):
+            with self.assertRaisesRegex(ValueError, "not understood"):
+                parse_range(cell)
+
+
+class RangeArithmeticTest(unittest.TestCase):
+    def test_full_width_of_each_size(self):
+        self.assertEqual(full_width(1, False), (0, 255))
+        self.assertEqual(full_width(2, True), (-32768, 32767))
+        self.assertEqual(full_width(4, False), (0, 4294967295))
+        self.assertEqual(full_width(4, True), (-2147483648, 2147483647))
+
+    def test_a_range_choice_is_found_by_family_and_key_first_match_first(self):
+        choices = [rc("ax rx", ("cw_angle_limit", "ccw_angle_limit"), 0, 1023, "PAGE", "same as Goal Position"),
+                   rc("ax ex", "cw_angle_limit", 0, 4095, "PAGE")]
+        self.assertEqual(find_choice(choices, "ax", "cw_angle_limit").max, 1023)
+        self.assertEqual(find_choice(choices, "ex", "cw_angle_limit").max, 4095)
+        self.assertEqual(choices[0].quotes, ("same as Goal Position",))
+        self.assertIsNone(find_choice(choices, "mx1", "cw_angle_limit"))
+
+    def test_range_evidence_must_hold_a_quote_whitespace_normalised(self):
+        files = {"control-tables/includes/a.md": "The range\nof the   value is 0~255."}
+        on_file = rc("ax", "k", 0, 255, "control-tables/includes/a.md", ("nothing", "range of the value is 0~255"))
+        self.assertTrue(evidence_found(on_file, "", files.get))
+        self.assertFalse(evidence_found(rc("ax", "k", 0, 1, "control-tables/includes/a.md", "0~254"), "", files.get))
+        self.assertTrue(evidence_found(rc("ax", "k", 0, 1, "PAGE", "on  this page"), "on this\npage", files.get))
+        self.assertTrue(evidence_found(rc("ax", "k", 0, 1, "https://example.org/x.md"), "", files.get))
+
+
+class ItemRangeOrderTest(unittest.TestCase):
+    """Where an item's range comes from: the table, its description section, a choice, a donor page,
+    else the full width; then bounds named by other items."""
+
+    def draft(self, eeprom, ram, descriptions=""):
+        """An X-family page with a Range column, its items made and their ranges filled in."""
+        tmp = TempReference({"test-1": page_text(eeprom, ram, descriptions)})
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "x", "dxl_x430"), {})
+        item_builder.make_items(d)
+        item_ranges.printed_ranges(d)
+        item_ranges.fill_unprinted_ranges(d)
+        return d
+
+    def test_the_table_then_the_description_section_then_the_full_width(self):
+        d = self.draft("| 7 | 1 | ID | RW | 1 | 0 ~ 252 | - |\n",
+                       "| 64 | 1 | Torque Enable | RW | 0 | - | - |\n| 65 | 1 | LED | RW | 0 | - | - |\n",
+                       "### Torque Enable(64)\n| Unit | Value Range |\n|---|---|\n| - | 0 ~ 1 |\n")
+        by_key = d.by_key
+        self.assertEqual((by_key["id"].min, by_key["id"].max, by_key["id"].range_from), (0, 252, "table"))
+        self.assertEqual((by_key["torque_enable"].max, by_key["torque_enable"].range_from), (1, "description"))
+        self.assertIn("description section 'Torque Enable(64)'", by_key["torque_enable"].notes[0])
+        self.assertEqual((by_key["led"].min, by_key["led"].range_from), (None, "default"))
+        self.assertIn("full width", by_key["led"].notes[0])
+
+    def test_a_page_without_a_range_column_takes_a_documented_choice_with_its_evidence(self):
+        header = "| Address | Size(Byte) | Data Name | Access | Initial Value |\n|---|---|---|---|---|\n"
+        text = (f"## Control Table of EEPROM Area\n\n{header}| 3 | 1 | ID | RW | 1 |\n\n"
+                f"## Control Table of RAM Area\n\n{header}| 24 | 1 | Torque Enable | RW | 0 |\n")
+        tmp = TempReference({"test-1": text},
+                            {"control_table_id": "0~253 (0xFD) values can be used as an ID",
+                             "ax-legacy-page-description-sections": "|1|Generates Torque by impressing|"})
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "ax", "dxl_ax"), {})
+        item_builder.make_items(d)
+        item_ranges.printed_ranges(d)
+        item_ranges.fill_unprinted_ranges(d)
+        item = d.by_key["id"]
+        self.assertEqual((item.min, item.max, item.range_from), (0, 253, "choice"))
+        self.assertIn("'0~253 (0xFD) values can be used as an ID'", item.notes[0])
+
+    def test_evidence_that_is_not_where_the_choice_says_stops_the_conversion(self):
+        header = "| Address | Size(Byte) | Data Name | Access | Initial Value |\n|---|---|---|---|---|\n"
+        text = (f"## Control Table of EEPROM Area\n\n{header}| 3 | 1 | ID | RW | 1 |\n\n"
+                f"## Control Table of RAM Area\n\n{header}| 25 | 1 | LED | RW | 0 |\n")
+        tmp = TempReference({"test-1": text}, {"control_table_id": "some other text"})
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "ax", "dxl_ax"), {})
+        item_builder.make_items(d)
+        with self.assertRaisesRegex(SystemExit, "test-1.id: evidence"):
+            item_ranges.fill_unprinted_ranges(d)
+
+    def test_a_donor_page_lends_the_range_of_the_same_item(self):
+        header = "| Address | Size(Byte) | Data Name | Access | Initial Value |\n|---|---|---|---|---|\n"
+        text = (f"## Control Table of EEPROM Area\n\n{header}| 13 | 1 | Protocol Version | RW | 2 |\n\n"
+                f"## Control Table of RAM Area\n\n{header}| 64 | 1 | Torque Enable | RW | 0 |\n")
+        donor = page_text("| 13 | 1 | Protocol Type | RW | 2 | 1 ~ 2 | - |\n",
+                          "| 64 | 1 | Torque Enable | RW | 0 | 0 ~ 1 | - |\n")
+        tmp = TempReference({"test-1": text, "donor-1": donor})
+        self.addCleanup(tmp.close)
+        donors = {"donor-1": read_page(tmp.ref, "donor-1", "x", "dxl_x430")}
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "mx2", "dxl_mx2"), donors)
+        item_builder.make_items(d)
+        item_ranges.printed_ranges(d)
+        item_ranges.fill_unprinted_ranges(d)
+        for key, hi in (("protocol_version", 2), ("torque_enable", 1)):
+            item = d.by_key[key]
+            self.assertEqual((item.max, item.range_from), (hi, "donor"), key)
+            self.assertIn("control-tables/donor-1.md", item.notes[0])
+
+    def test_bounds_named_by_other_items_take_their_static_range(self):
+        d = self.draft("| 36 | 2 | PWM Limit | RW | 885 | 0 ~ 885 | - |\n"
+                       "| 48 | 4 | Max Position Limit | RW | 4,095 | 0 ~ 4,095 | - |\n"
+                       "| 52 | 4 | Min Position Limit | RW | 0 | 0 ~ 4,095 | - |\n",
+                       "| 100 | 2 | Goal PWM | RW | - | -PWM Limit(36) ~ PWM Limit(36) | - |\n"
+                       "| 116 | 4 | Goal Position | RW | - | Min Position Limit(52) ~ Max Position Limit(48) | - |\n")
+        item_ranges.resolve_limits(d)
+        pwm, pos = d.by_key["goal_pwm"], d.by_key["goal_position"]
+        self.assertEqual((pwm.limit_min, pwm.limit_max, pwm.min, pwm.max, pwm.signed),
+                         ("-pwm_limit", "pwm_limit", -885, 885, True))
+        self.assertEqual((pos.limit_min, pos.limit_max, pos.min, pos.max),
+                         ("min_position_limit", "max_position_limit", 0, 4095))
+
+    def test_a_printed_range_that_excludes_the_factory_value_is_widened_to_it(self):
+        d = self.draft("| 12 | 1 | Secondary(Shadow) ID | RW | 255 | 0 ~ 252 | - |\n",
+                       "| 64 | 1 | Torque Enable | RW | 0 | 0 ~ 1 | - |\n")
+        item_builder.initial_values(d, 45)
+        item_ranges.widen_to_factory(d)
+        item = d.by_key["secondary_id"]
+        self.assertEqual((item.min, item.max), (0, 255))
+        self.assertIn("0 ~ 252 is printed but the factory value is 255", item.notes[-1])
+        self.assertEqual(d.by_key["torque_enable"].max, 1)
+
+    def test_a_bound_that_names_no_item_is_refused(self):
+        with self.assertRaisesRegex(ValueError, "which is not an item"):
+            self.draft("| 36 | 2 | PWM Limit | RW | 885 | 0 ~ 885 | - |\n",
+                       "| 100 | 2 | Goal PWM | RW | - | -PWM Limit(38) ~ PWM Limit(36) | - |\n")
+
+
+class DecisionTablesTest(unittest.TestCase):
+    """Adding a page or a family is data: every family and variant needs an entry in each table."""
+
+    def test_page_names_give_family_product_group_and_variant(self):
+        cases = {"xl-320": ("xl320", "dxl_xl320", "xl320"), "xl330-m288": ("x", "xl330", "x330"),
+                 "xc330-t288": ("x", "xc330", "x330"), "2xl430-w250": ("x", "dxl_x430", "x"),
+                 "mx-28-2": ("mx2", "dxl_mx2", "mx2"), "mx-28": ("mx1", "dxl_mx", "mx1"),
+                 "ex-106+": ("ex", "dxl_ex", "ex"), "ph54-200-s500-r": ("p", "dxl_p", "p"),
+                 "h54-200-s500-r": ("pro", "dxl_pro", "pro")}
+        for name, (family, group, variant) in cases.items():
+            self.assertEqual(catalogue.classify(name), (family, group), name)
+            self.assertEqual(catalogue.variant_of(family, group), variant, name)
+        with self.assertRaisesRegex(SystemExit, "no family rule"):
+            catalogue.classify("zz-1")
+
+    def test_every_converted_page_has_a_family_rule(self):
+        for name in catalogue.CONVERTED_PAGES:
+            catalogue.classify(name)
+
+    def test_every_family_and_variant_has_an_entry_in_each_per_family_table(self):
+        families = {family for _, family, _ in catalogue.PAGE_RULES}
+        variants = {catalogue.variant_of(f, g) for _, f, g in catalogue.PAGE_RULES}
+        for table_name in ("TIMING", "DEGREES_PER_PULSE"):
+            self.assertEqual(set(getattr(model_fields, table_name)), families, table_name)
+        self.assertEqual(set(item_rules.MID_POSITION), families)
+        for table_name in ("FIRMWARE", "PROTOCOLS"):
+            self.assertLessEqual(variants, set(getattr(model_fields, table_name)), table_name)
+
+    def test_every_initial_rule_sets_exactly_one_kind_of_value(self):
+        for key, rule in item_rules.INITIAL_RULES.items():
+            kinds = [rule.value is not None, bool(rule.copy_from), bool(rule.computed)]
+            self.assertEqual(kinds.count(True), 1, key)
+            if rule.computed:
+                self.assertIn(rule.computed, item_builder.INITIAL_COMPUTATIONS, key)
+
+
+if __name__ == "__main__":
+    unittest.main()
