@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "bus/line_timing.hpp"
+#include "support/bench_main.hpp"
 #include "support/daemon.hpp"
 #include "support/flags.hpp"
 #include "support/serial_port.hpp"
@@ -273,11 +274,7 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Options options = parse(argc, argv);
-    if (options.cpu >= 0) {
-      dxlemu::bench::pin_to_cpu(options.cpu);  // before starting dxlemu, which inherits it
-    }
+  return dxlemu::bench::bench_main("reply_latency", argc, argv, parse, [](const Options& options) {
     std::cout << "| baud | instruction | round trips | lost | skipped | modelled (µs) | min (µs) | "
                  "median (µs) | p99 (µs) | max (µs) |\n"
                  "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
@@ -298,9 +295,5 @@ int main(int argc, char** argv) {
       }
       ::close(fd);
     }
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "reply_latency: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "bus/line_timing.hpp"
+#include "support/bench_main.hpp"
 #include "support/daemon.hpp"
 #include "support/flags.hpp"
 #include "support/serial_port.hpp"
@@ -710,18 +711,10 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Options options = parse(argc, argv);
-    if (options.cpu >= 0) {
-      bench::pin_to_cpu(options.cpu);  // before starting dxlemu, which inherits it
-    }
+  return bench::bench_main("scale", argc, argv, parse, [](const Options& options) {
     const TempDir dir;
     const long base_kib = baseline_kib(options, dir);
     one_bus(options, dir, base_kib);
     many_ports(options, dir, base_kib);
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "scale: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

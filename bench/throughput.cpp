@@ -29,8 +29,12 @@
 // run; progress goes to stderr.
 //
 // Usage: throughput --dxlemu PATH --echo PATH [--seconds D] [--runs R] [--cpu N] [--target NAME]...
+//                   [--baseline PATH]
 // --cpu N pins the bench, its threads and the daemons it starts to CPU N. --target NAME (a name
 // above, e.g. --target "dxlemu + trace file") measures only the targets named, and pty echo.
+// --baseline PATH adds the target "baseline dxlemu": the plain dxlemu target run with another
+// binary (e.g. the last release's), interleaved with the others, so that a change is measured
+// against what it changes in the same run.
 #include <unistd.h>
 
 #include <algorithm>
@@ -52,6 +56,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/bench_main.hpp"
 #include "support/control_socket.hpp"
 #include "support/daemon.hpp"
 #include "support/flags.hpp"
@@ -89,6 +94,7 @@ struct Options {
   int runs = 3;
   int cpu = -1;  // with --cpu N, the bench, its threads and the daemons run on CPU N only
   std::vector<std::string> only;  // --target NAME...: these targets (and pty echo) only
+  std::string baseline;           // --baseline PATH: a second dxlemu binary to measure
 };
 
 // What runs beside the bus client while it measures.
@@ -99,10 +105,13 @@ struct Target {
   bool echo = false;          // pty_echo instead of dxlemu
   std::string output_option;  // "--trace" or "--pcap" (to a temporary file), or none
   SideLoad load = SideLoad::None;
+  bool baseline = false;  // runs the --baseline binary
 };
 
-std::vector<Target> targets() {
-  return {
+constexpr const char* kBaselineTarget = "baseline dxlemu";
+
+std::vector<Target> targets(const Options& options) {
+  std::vector<Target> out = {
       {"pty echo", true, "", SideLoad::None},
       {"dxlemu", false, "", SideLoad::None},
       {"dxlemu + trace file", false, "--trace", SideLoad::None},
@@ -110,6 +119,10 @@ std::vector<Target> targets() {
       {"dxlemu + trace subscriber", false, "", SideLoad::Subscriber},
       {"dxlemu + stats client", false, "", SideLoad::StatsClient},
   };
+  if (!options.baseline.empty()) {
+    out.insert(out.begin() + 2, {kBaselineTarget, false, "", SideLoad::None, true});
+  }
+  return out;
 }
 
 // The figures of one run of one target (or their medians).
@@ -241,7 +254,7 @@ Run measure(const Target& target, const Options& options, const Paths& paths) {
     if (!target.output_option.empty()) {
       args.insert(args.end(), {target.output_option, paths.output.string()});
     }
-    daemon.emplace(options.dxlemu, args);
+    daemon.emplace(target.baseline ? options.baseline : options.dxlemu, args);
   }
   std::cerr << "throughput: " << target.name << " (pid " << daemon->pid() << ")\n";
   SideClient side(target.load, paths.control);
@@ -412,10 +425,10 @@ void print_tables(const std::vector<Target>& all, const std::vector<std::vector<
   std::cout << std::flush;
 }
 
-// The targets of `options`: every one, or pty echo (the reference of every ratio) and those named
-// by --target.
+// The targets of `options`: every one, or pty echo (the reference of every ratio), the baseline
+// and those named by --target.
 std::vector<Target> chosen(const Options& options) {
-  std::vector<Target> all = targets();
+  std::vector<Target> all = targets(options);
   if (options.only.empty()) {
     return all;
   }
@@ -429,7 +442,7 @@ std::vector<Target> chosen(const Options& options) {
     }
   }
   std::erase_if(all, [&](const Target& t) {
-    return !t.echo &&
+    return !t.echo && !t.baseline &&
            std::find(options.only.begin(), options.only.end(), t.name) == options.only.end();
   });
   return all;
@@ -437,7 +450,7 @@ std::vector<Target> chosen(const Options& options) {
 
 constexpr const char* kUsage =
     "usage: throughput --dxlemu PATH --echo PATH [--seconds D] [--runs R] [--cpu N]\n"
-    "                  [--target NAME]...";
+    "                  [--target NAME]... [--baseline PATH]";
 
 Options parse(int argc, char** argv) {
   Options o;
@@ -447,7 +460,8 @@ Options parse(int argc, char** argv) {
                       {"--seconds", [&](const std::string& v) { o.seconds = std::stod(v); }},
                       {"--runs", [&](const std::string& v) { o.runs = std::stoi(v); }},
                       {"--cpu", [&](const std::string& v) { o.cpu = std::stoi(v); }},
-                      {"--target", [&](const std::string& v) { o.only.push_back(v); }}},
+                      {"--target", [&](const std::string& v) { o.only.push_back(v); }},
+                      {"--baseline", [&](const std::string& v) { o.baseline = v; }}},
                      kUsage);
   if (o.dxlemu.empty() || o.echo.empty() || !(o.seconds > 0) || o.runs <= 0) {
     throw std::invalid_argument(kUsage);
@@ -458,11 +472,7 @@ Options parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    const Options options = parse(argc, argv);
-    if (options.cpu >= 0) {
-      bench::pin_to_cpu(options.cpu);  // before starting anything, which inherits it
-    }
+  return bench::bench_main("throughput", argc, argv, parse, [](const Options& options) {
     const Paths paths;
     const std::vector<Target> all = chosen(options);
     std::vector<std::vector<Run>> results;
@@ -474,9 +484,5 @@ int main(int argc, char** argv) {
       }
     }
     print_tables(all, results);
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "throughput: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

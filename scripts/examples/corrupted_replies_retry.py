@@ -26,8 +26,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))  # the dxlemu package
 
-from dxlemu import (BadPacket, Client, CommError, CommTimeout, ControlError,  # noqa: E402
-                    DaemonError, Emulator, Reply)
+from dxlemu import BadPacket, Client, CommTimeout, Emulator, Reply  # noqa: E402
+from dxlemu.example import Failure, check, run_example  # noqa: E402
 
 PRESENT_POSITION = 132  # XM430-W350 (e-Manual; models/xm430-w350.json)
 SERVOS = (1, 2, 3)
@@ -35,16 +35,6 @@ READS = 500
 SEED = 20240607
 PROBABILITY = 0.05
 ATTEMPTS = 5  # per read: at 5 % corruption, four retries failing in a row is a 1-in-3-million event
-
-
-class Failure(Exception):
-    """A step that did not go as it should."""
-
-
-def check(condition: bool, message: str) -> None:
-    """Fails the example with `message` unless `condition` holds."""
-    if not condition:
-        raise Failure(message)
 
 
 class Controller:
@@ -114,9 +104,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    try:
-        main()
-    except (Failure, CommError, ControlError, DaemonError) as error:
-        print(f"FAILED: {error}", file=sys.stderr)
-        sys.exit(1)
-    print("ok: every read succeeded, retries matched the corrupted replies")
+    run_example(main, "ok: every read succeeded, retries matched the corrupted replies")

@@ -28,7 +28,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))  # the dxlemu package
 
-from dxlemu import Client, CommError, ControlError, DaemonError, Emulator  # noqa: E402
+from dxlemu import Client, CommError, Emulator  # noqa: E402
+from dxlemu.example import check, run_example  # noqa: E402
 
 # XM430-W350 control table (e-Manual; models/xm430-w350.json).
 TORQUE_ENABLE, HARDWARE_ERROR_STATUS, PROFILE_VELOCITY = 64, 70, 112
@@ -43,16 +44,6 @@ SLOW = 20  # Profile Velocity, 0.229 rev/min units: about 300 pulses/s
 BOOT_TIMEOUT_S = 3.0  # servos are silent for about 0.4 s after Reboot
 ALERT_TIMEOUT_S = 5.0
 STOP_TIMEOUT_S = 2.0
-
-
-class Failure(Exception):
-    """A step that did not go as it should."""
-
-
-def check(condition: bool, message: str) -> None:
-    """Fails the example with `message` unless `condition` holds."""
-    if not condition:
-        raise Failure(message)
 
 
 class Controller:
@@ -143,9 +134,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    try:
-        main()
-    except (Failure, CommError, ControlError, DaemonError) as error:
-        print(f"FAILED: {error}", file=sys.stderr)
-        sys.exit(1)
-    print("ok: overheating noticed by the alert bit, recovered with Reboot")
+    run_example(main, "ok: overheating noticed by the alert bit, recovered with Reboot")

@@ -26,8 +26,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))  # the dxlemu package
 
-from dxlemu import (Client, CommError, CommTimeout, ControlError, DaemonError,  # noqa: E402
-                    Emulator)
+from dxlemu import Client, CommTimeout, Emulator  # noqa: E402
+from dxlemu.example import check, run_example  # noqa: E402
 
 # XM430-W350 control table (e-Manual; models/xm430-w350.json).
 TORQUE_ENABLE, GOAL_POSITION, PRESENT_POSITION = 64, 116, 132
@@ -39,16 +39,6 @@ BOOT_S = 0.4  # the model's boot time
 COMEBACK_TIMEOUT_S = 3.0
 POSITION_TOLERANCE = 20  # pulses
 MOVE_TIMEOUT_S = 5.0
-
-
-class Failure(Exception):
-    """A step that did not go as it should."""
-
-
-def check(condition: bool, message: str) -> None:
-    """Fails the example with `message` unless `condition` holds."""
-    if not condition:
-        raise Failure(message)
 
 
 class Controller:
@@ -127,9 +117,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    try:
-        main()
-    except (Failure, CommError, ControlError, DaemonError) as error:
-        print(f"FAILED: {error}", file=sys.stderr)
-        sys.exit(1)
-    print("ok: the unplugged servo was noticed, came back after boot, and was configured again")
+    run_example(main, "ok: the unplugged servo was noticed, came back after boot, and was configured again")
