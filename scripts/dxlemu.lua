@@ -344,6 +344,19 @@ local function error_field(tree, range, protocol)
 end
 
 -- Dissects one complete packet of `total` bytes at `pos`; returns its Info text.
+-- Marks a packet's check (CRC or checksum, shown by `item` over `range`) as good or bad, with an
+-- expert note when it is bad; returns what the packet's one-line text gets (" [BAD CRC]" or "").
+local function verify(item, tree, status_field, range, given, expected, expert, name, digits)
+  tree:add(status_field, range, given == expected and 1 or 0):set_generated()
+  if given == expected then
+    return ""
+  end
+  item:append_text(string.format(" [incorrect, should be 0x" .. digits .. "]", expected))
+  item:add_proto_expert_info(expert, string.format("Bad %s 0x" .. digits .. ", expected 0x" ..
+                                                   digits, name, given, expected))
+  return " [BAD " .. string.upper(name) .. "]"
+end
+
 local function dissect_packet(buf, pos, total, kind, direction, tree)
   local protocol = kind == "v2" and 2 or 1
   local is_status = direction == TO_CLIENT
@@ -400,16 +413,9 @@ local function dissect_packet(buf, pos, total, kind, direction, tree)
       local ptree2 = ptree:add(f.params, p)
       text = text .. instruction_params(ptree2, p, 2, instruction)
     end
-    local given = buf(check_at, 2):le_uint()
-    local expected = crc16(buf:raw(pos, check_at - pos))
-    local item = ptree:add_le(f.crc, buf(check_at, 2))
-    ptree:add(f.crc_status, buf(check_at, 2), given == expected and 1 or 0):set_generated()
-    if given ~= expected then
-      item:append_text(string.format(" [incorrect, should be 0x%04x]", expected))
-      item:add_proto_expert_info(ef.bad_crc,
-                                 string.format("Bad CRC 0x%04x, expected 0x%04x", given, expected))
-      text = text .. " [BAD CRC]"
-    end
+    local range = buf(check_at, 2)
+    text = text .. verify(ptree:add_le(f.crc, range), ptree, f.crc_status, range, range:le_uint(),
+                          crc16(buf:raw(pos, check_at - pos)), ef.bad_crc, "CRC", "%04x")
   else
     local count = check_at - body - 1
     if is_status then
@@ -430,16 +436,10 @@ local function dissect_packet(buf, pos, total, kind, direction, tree)
         text = text .. instruction_params(ptree2, p, 1, instruction)
       end
     end
-    local given = buf(check_at, 1):uint()
-    local expected = checksum1(buf:raw(pos + header, check_at - pos - header))
-    local item = ptree:add(f.checksum, buf(check_at, 1))
-    ptree:add(f.checksum_status, buf(check_at, 1), given == expected and 1 or 0):set_generated()
-    if given ~= expected then
-      item:append_text(string.format(" [incorrect, should be 0x%02x]", expected))
-      item:add_proto_expert_info(ef.bad_checksum,
-                                 string.format("Bad checksum 0x%02x, expected 0x%02x", given, expected))
-      text = text .. " [BAD CHECKSUM]"
-    end
+    local range = buf(check_at, 1)
+    text = text .. verify(ptree:add(f.checksum, range), ptree, f.checksum_status, range,
+                          range:uint(), checksum1(buf:raw(pos + header, check_at - pos - header)),
+                          ef.bad_checksum, "checksum", "%02x")
   end
   ptree:append_text(string.format(" %s.0, %s", protocol, text))
   return text

@@ -112,6 +112,20 @@ def _keep_header_prefix(buffer: bytes, header: bytes) -> int:
     return len(buffer)
 
 
+def _whole_packet(buffer: bytes, index: int, head: int, length_bytes: int,
+                  min_length: int) -> int | None:
+    """The LENGTH of the packet that starts at `index` (its LENGTH field, little-endian, is the
+    last `length_bytes` of its first `head` bytes), or None until all of it is in `buffer`.
+    Raises BadPacket for a LENGTH below `min_length`."""
+    if len(buffer) < index + head:
+        return None
+    length = int.from_bytes(buffer[index + head - length_bytes:index + head], "little")
+    if length < min_length:
+        raise BadPacket(f"impossible status length {length}", buffer[index:index + head],
+                        consumed=index + head)
+    return length if len(buffer) >= index + head + length else None
+
+
 def frame_status2(buffer: bytes) -> tuple[Status | None, int]:
     """Looks for one Protocol 2.0 status packet in `buffer`, skipping garbage before it.
 
@@ -124,15 +138,10 @@ def frame_status2(buffer: bytes) -> tuple[Status | None, int]:
         index = buffer.find(HEADER2, start)
         if index < 0:
             return None, start + _keep_header_prefix(buffer[start:], HEADER2)
-        if len(buffer) < index + 7:
+        length = _whole_packet(buffer, index, 7, 2, _MIN_LENGTH2)
+        if length is None:
             return None, index
-        length = buffer[index + 5] | (buffer[index + 6] << 8)
-        if length < _MIN_LENGTH2:
-            raise BadPacket(f"impossible status length {length}", buffer[index:index + 7],
-                            consumed=index + 7)
         end = index + 7 + length
-        if len(buffer) < end:
-            return None, index
         packet = bytes(buffer[index:end])
         if crc16(packet[:-2]) != (packet[-2] | (packet[-1] << 8)):
             raise BadPacket("bad CRC in status packet", packet, consumed=end)
@@ -152,15 +161,10 @@ def frame_status1(buffer: bytes) -> tuple[Status | None, int]:
         index += 1  # FF FF FF: the header starts one byte later
     if index < 0:
         return None, _keep_header_prefix(buffer, HEADER1)
-    if len(buffer) < index + 4:
+    length = _whole_packet(buffer, index, 4, 1, _MIN_LENGTH1)
+    if length is None:
         return None, index
-    length = buffer[index + 3]
-    if length < _MIN_LENGTH1:
-        raise BadPacket(f"impossible status length {length}", buffer[index:index + 4],
-                        consumed=index + 4)
     end = index + 4 + length
-    if len(buffer) < end:
-        return None, index
     packet = bytes(buffer[index:end])
     if checksum1(packet[2:-1]) != packet[-1]:
         raise BadPacket("bad checksum in status packet", packet, consumed=end)
