@@ -364,8 +364,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   const std::string family = root.at("family").string();
   const auto f = family_from_name(family);
   if (!f) {
-    root.at("family").fail("unknown family \"" + family +
-                           "\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro)");
+    root.at("family").fail("unknown family \"" + family + "\" (known: " + family_names() + ")");
   }
   spec.family = *f;
 
