@@ -297,7 +297,7 @@ bool ControlTable::eeprom_locked() const {
   if (eeprom_lock_) {
     return eeprom_lock_();
   }
-  if (locks_eeprom_with_torque(spec_->family)) {
+  if (spec_->traits().eeprom_locked_by_torque) {
     return torque_enable_ && get(*torque_enable_) != 0;
   }
   return lock_ && get(*lock_) != 0;

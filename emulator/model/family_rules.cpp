@@ -1,29 +1,10 @@
 #include "model/family_rules.hpp"
 
+#include <optional>
 #include <string>
 
 namespace dxlemu::model {
 namespace {
-
-// MX 1.0 multi-turn mode: both angle limits at 4095 (includes/control_table_mx_angle_limit.md).
-constexpr std::int64_t kMultiTurnLimit = 4095;
-
-bool has_angle_limits(Family family) {
-  switch (family) {
-    case Family::Ax:
-    case Family::Rx:
-    case Family::Ex:
-    case Family::Mx1:
-    case Family::Xl320:
-      return true;
-    case Family::X:
-    case Family::Mx2:
-    case Family::P:
-    case Family::Pro:
-      return false;
-  }
-  return false;
-}
 
 void install_angle_limit(ControlTable& table) {
   const ModelSpec& spec = table.spec();
@@ -32,13 +13,13 @@ void install_angle_limit(ControlTable& table) {
   if (!cw || !ccw || !spec.find("goal_position")) {
     return;
   }
-  const bool multi_turn = spec.family == Family::Mx1;
+  const std::optional<std::int64_t> multi_turn = spec.traits().multi_turn_angle_limit;
   table.add_validator(
       "goal_position", [&table, cw = *cw, ccw = *ccw, multi_turn](std::size_t, std::int64_t goal) {
         const std::int64_t lo = table.get(cw);
         const std::int64_t hi = table.get(ccw);
         const bool wheel = lo == 0 && hi == 0;
-        const bool turns = multi_turn && lo == kMultiTurnLimit && hi == kMultiTurnLimit;
+        const bool turns = multi_turn && lo == *multi_turn && hi == *multi_turn;
         if (wheel || turns || (goal >= lo && goal <= hi)) {
           return TableResult{};
         }
@@ -75,7 +56,7 @@ void install_bus_watchdog(ControlTable& table) {
 }  // namespace
 
 void install_family_rules(ControlTable& table) {
-  if (has_angle_limits(table.spec().family)) {
+  if (table.spec().traits().goal_within_angle_limits) {
     install_angle_limit(table);
   }
   install_bus_watchdog(table);

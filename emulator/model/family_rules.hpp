@@ -6,11 +6,11 @@ namespace dxlemu::model {
 
 /// Adds the write rules of the model's behaviour family that the model file cannot express as
 /// ranges and limits. Today: in joint mode, Goal Position must lie between CW and CCW Angle Limit
-/// (AX, RX, EX, MX 1.0, XL-320: includes/ax-legacy-page-description-sections.md, protocol1.md
-/// "Angle Limit Error"); wheel mode (both limits 0) and MX 1.0 multi-turn mode (both 4095) take
-/// any Goal Position in range. Bus Watchdog error (-1): goal writes refused with Data Range Error
-/// until Bus Watchdog is written 0 (includes/control_table_buswatchdog.md). ControlTable's
-/// constructor calls this.
+/// (FamilyTraits::goal_within_angle_limits: includes/ax-legacy-page-description-sections.md,
+/// protocol1.md "Angle Limit Error"); wheel mode (both limits 0) and multi-turn mode (both at
+/// FamilyTraits::multi_turn_angle_limit) take any Goal Position in range. Bus Watchdog error (-1):
+/// goal writes refused with Data Range Error until Bus Watchdog is written 0
+/// (includes/control_table_buswatchdog.md). ControlTable's constructor calls this.
 void install_family_rules(ControlTable& table);
 
 }  // namespace dxlemu::model

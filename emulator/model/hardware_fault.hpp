@@ -4,7 +4,7 @@
 #include <optional>
 #include <string_view>
 
-#include "model/model_spec.hpp"
+#include "model/family_traits.hpp"
 
 namespace dxlemu::model {
 
@@ -26,6 +26,9 @@ using FaultSet = std::uint8_t;
 constexpr FaultSet fault_set(HardwareFault fault) {
   return static_cast<FaultSet>(1U << static_cast<unsigned>(fault));
 }
+
+/// The bit of `fault` in `bits`, or 0 when they cannot report it.
+std::uint8_t fault_bit(const FaultBits& bits, HardwareFault fault);
 
 /// The bit of `fault` in the family's Shutdown, Hardware Error Status and Alarm LED items (and
 /// the Protocol 1.0 status error byte), or 0 when the family cannot report it.

@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <utility>
+
+#include "model/json_node.hpp"
 
 namespace dxlemu::model {
 namespace {
@@ -42,107 +43,6 @@ constexpr std::array<std::string_view, 8> kMotionFields = {
     "stall_torque_nm",   "nominal_voltage_v", "stall_current_a", "acceleration_unit_rpm2"};
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 
-// Walks a JSON document with the pointer of the current value at hand, so that every refusal
-// names exactly where the problem is.
-class Node {
- public:
-  Node(const json& value, std::string pointer, const std::string& origin)
-      : value_(value), pointer_(std::move(pointer)), origin_(origin) {}
-
-  [[noreturn]] void fail(const std::string& reason) const {
-    throw ModelError(origin_, pointer_, reason);
-  }
-
-  const std::string& pointer() const { return pointer_; }
-  bool has(const char* key) const { return value_.contains(key); }
-
-  Node at(const char* key) const {
-    if (!value_.contains(key)) {
-      fail(std::string("missing required field \"") + key + "\"");
-    }
-    return child(key);
-  }
-  Node child(const char* key) const {
-    return Node(value_.at(key), pointer_ + "/" + escape(key), origin_);
-  }
-  Node at(std::size_t index) const {
-    return Node(value_.at(index), pointer_ + "/" + std::to_string(index), origin_);
-  }
-
-  void expect_object(std::span<const std::string_view> allowed) const {
-    if (!value_.is_object()) {
-      fail("must be an object");
-    }
-    for (auto it = value_.begin(); it != value_.end(); ++it) {
-      const std::string& key = it.key();
-      const auto known = [&key](std::string_view a) { return key == a; };
-      if (std::find_if(allowed.begin(), allowed.end(), known) == allowed.end()) {
-        Node(it.value(), pointer_ + "/" + escape(key), origin_).fail("unknown field");
-      }
-    }
-  }
-  std::size_t array_size() const {
-    if (!value_.is_array()) {
-      fail("must be an array");
-    }
-    return value_.size();
-  }
-  std::string string() const {
-    if (!value_.is_string()) {
-      fail("must be a string");
-    }
-    return value_.get<std::string>();
-  }
-  std::int64_t integer(std::int64_t lo, std::int64_t hi) const {
-    if (!value_.is_number_integer()) {
-      fail("must be an integer");
-    }
-    const auto v = value_.is_number_unsigned()
-                       ? static_cast<std::int64_t>(std::min<std::uint64_t>(
-                             value_.get<std::uint64_t>(),
-                             static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())))
-                       : value_.get<std::int64_t>();
-    if (v < lo || v > hi) {
-      fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
-           std::to_string(v));
-    }
-    return v;
-  }
-  double positive_number() const {
-    if (!value_.is_number() || value_.get<double>() <= 0) {
-      fail("must be a positive number");
-    }
-    return value_.get<double>();
-  }
-  bool boolean() const {
-    if (!value_.is_boolean()) {
-      fail("must be true or false");
-    }
-    return value_.get<bool>();
-  }
-  std::vector<std::string> strings() const {
-    std::vector<std::string> out;
-    for (std::size_t i = 0, n = array_size(); i < n; ++i) {
-      out.push_back(at(i).string());
-    }
-    return out;
-  }
-
- private:
-  // RFC 6901: "~" and "/" in a key are written "~0" and "~1".
-  static std::string escape(const std::string& key) {
-    std::string out;
-    for (const char c : key) {
-      out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
-    }
-    return out;
-  }
-
-  const json& value_;
-  std::string pointer_;
-  const std::string& origin_;
-};
-
 constexpr std::int64_t kU8 = 0xFF;
 constexpr std::int64_t kU16 = 0xFFFF;
 constexpr std::int64_t kU32 = 0xFFFFFFFF;
@@ -172,7 +72,7 @@ struct PendingItem {
   bool has_initial = false;
 };
 
-PendingItem read_item(const Node& n) {
+PendingItem read_item(const JsonNode& n) {
   n.expect_object(kItemFields);
   PendingItem p;
   p.pointer = n.pointer();
@@ -206,7 +106,7 @@ PendingItem read_item(const Node& n) {
     n.child("max").fail("is below min (" + std::to_string(s.min) + ")");
   }
   if (n.has("values")) {
-    const Node values = n.child("values");
+    const JsonNode values = n.child("values");
     for (std::size_t i = 0, count = values.array_size(); i < count; ++i) {
       s.values.push_back(values.at(i).integer(s.min, s.max));
     }
@@ -242,7 +142,7 @@ PendingItem read_item(const Node& n) {
   return p;
 }
 
-std::vector<ItemSpec> read_items(const Node& items_node) {
+std::vector<ItemSpec> read_items(const JsonNode& items_node) {
   std::vector<PendingItem> pending;
   for (std::size_t i = 0, n = items_node.array_size(); i < n; ++i) {
     pending.push_back(read_item(items_node.at(i)));
@@ -254,7 +154,7 @@ std::vector<ItemSpec> read_items(const Node& items_node) {
   std::map<std::uint16_t, std::size_t> by_address;
   for (std::size_t i = 0; i < pending.size(); ++i) {
     const ItemSpec& s = pending[i].spec;
-    const Node n = items_node.at(i);
+    const JsonNode n = items_node.at(i);
     if (const auto [it, fresh] = by_key.emplace(s.key, i); !fresh) {
       n.at("key").fail("duplicate key \"" + s.key + "\" (also " + pending[it->second].pointer +
                        ")");
@@ -327,7 +227,7 @@ std::vector<ItemSpec> read_items(const Node& items_node) {
 }
 
 // Every indirect block must be backed by its items: 2-byte address items and 1-byte data items.
-void check_indirect(const Node& n, const ModelSpec& spec) {
+void check_indirect(const JsonNode& n, const ModelSpec& spec) {
   auto item_at = [&](std::uint16_t address) -> const ItemSpec* {
     for (const ItemSpec& item : spec.items) {
       if (item.address == address) {
@@ -354,7 +254,7 @@ void check_indirect(const Node& n, const ModelSpec& spec) {
 }  // namespace
 
 ModelSpec model_from_json(const json& document, const std::string& origin) {
-  const Node root(document, "", origin);
+  const JsonNode root(document, "", origin);
   root.expect_object(kModelFields);
   ModelSpec spec;
   spec.name = root.at("name").string();
@@ -364,12 +264,11 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   const std::string family = root.at("family").string();
   const auto f = family_from_name(family);
   if (!f) {
-    root.at("family").fail("unknown family \"" + family +
-                           "\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro)");
+    root.at("family").fail("unknown family \"" + family + "\" (known: " + family_names() + ")");
   }
   spec.family = *f;
 
-  const Node protocols = root.at("protocols");
+  const JsonNode protocols = root.at("protocols");
   for (std::size_t i = 0, n = protocols.array_size(); i < n; ++i) {
     const auto p = static_cast<wire::Protocol>(protocols.at(i).integer(1, 2));
     if (std::find(spec.protocols.begin(), spec.protocols.end(), p) != spec.protocols.end()) {
@@ -382,9 +281,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   }
   spec.default_id = static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::kMaxIdV1));
 
-  const Node bauds = root.at("baud_rates");
+  const JsonNode bauds = root.at("baud_rates");
   for (std::size_t i = 0, n = bauds.array_size(); i < n; ++i) {
-    const Node b = bauds.at(i);
+    const JsonNode b = bauds.at(i);
     b.expect_object(kBaudFields);
     const BaudRate rate{b.at("index").integer(0, kU32),
                         static_cast<std::uint32_t>(b.at("bps").integer(1, kU32))};
@@ -400,7 +299,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.return_delay_unit_us =
       static_cast<std::uint32_t>(root.at("return_delay_unit_us").integer(1, kU16));
 
-  const Node timing = root.at("timing");
+  const JsonNode timing = root.at("timing");
   timing.expect_object(kTimingFields);
   auto micros = [&](const char* key) {
     return static_cast<std::uint32_t>(timing.at(key).integer(0, kU32));
@@ -408,7 +307,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.timing = {micros("ping_us"), micros("read_us"), micros("write_us"),
                  micros("write_per_byte_us"), micros("boot_ms")};
 
-  const Node motion = root.at("motion");
+  const JsonNode motion = root.at("motion");
   motion.expect_object(kMotionFields);
   spec.motion.degrees_per_pulse = motion.at("degrees_per_pulse").positive_number();
   spec.motion.velocity_unit_rpm = motion.at("velocity_unit_rpm").positive_number();
@@ -438,9 +337,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   }
 
   if (root.has("indirect")) {
-    const Node blocks = root.child("indirect");
+    const JsonNode blocks = root.child("indirect");
     for (std::size_t i = 0, n = blocks.array_size(); i < n; ++i) {
-      const Node b = blocks.at(i);
+      const JsonNode b = blocks.at(i);
       b.expect_object(kIndirectFields);
       spec.indirect.push_back({static_cast<std::uint16_t>(b.at("address").integer(0, kU16)),
                                static_cast<std::uint16_t>(b.at("data").integer(0, kU16)),
@@ -452,7 +351,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     spec.axes = static_cast<std::uint8_t>(root.child("axes").integer(1, 2));
   }
   if (root.has("shared_items")) {
-    const Node shared = root.child("shared_items");
+    const JsonNode shared = root.child("shared_items");
     spec.shared_items = shared.strings();
     for (std::size_t i = 0; i < spec.shared_items.size(); ++i) {
       if (!spec.find(spec.shared_items[i])) {

@@ -1,61 +1,9 @@
 #include "model/model_spec.hpp"
 
 #include <algorithm>
-#include <array>
 #include <stdexcept>
-#include <utility>
 
 namespace dxlemu::model {
-namespace {
-
-constexpr std::array<std::pair<Family, std::string_view>, 9> kFamilyNames = {{
-    {Family::X, "x"},
-    {Family::Mx2, "mx2"},
-    {Family::Mx1, "mx1"},
-    {Family::Ax, "ax"},
-    {Family::Rx, "rx"},
-    {Family::Ex, "ex"},
-    {Family::Xl320, "xl320"},
-    {Family::P, "p"},
-    {Family::Pro, "pro"},
-}};
-
-}  // namespace
-
-std::string_view family_name(Family family) {
-  for (const auto& [f, name] : kFamilyNames) {
-    if (f == family) {
-      return name;
-    }
-  }
-  return "?";
-}
-
-std::optional<Family> family_from_name(std::string_view name) {
-  for (const auto& [f, n] : kFamilyNames) {
-    if (n == name) {
-      return f;
-    }
-  }
-  return std::nullopt;
-}
-
-bool locks_eeprom_with_torque(Family family) {
-  switch (family) {
-    case Family::X:
-    case Family::Mx2:
-    case Family::Xl320:
-    case Family::P:
-    case Family::Pro:
-      return true;
-    case Family::Mx1:
-    case Family::Ax:
-    case Family::Rx:
-    case Family::Ex:
-      return false;
-  }
-  return false;
-}
 
 bool ItemSpec::in_range(std::int64_t value) const {
   if (value < min || value > max) {

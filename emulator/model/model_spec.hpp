@@ -9,22 +9,10 @@
 #include <unordered_map>
 #include <vector>
 
+#include "model/family_traits.hpp"
 #include "wire/protocol.hpp"
 
 namespace dxlemu::model {
-
-/// Behaviour family: which rules of the e-Manual a model follows beyond its control table.
-enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro };
-
-/// The family's name in model files ("x", "mx2", ...).
-std::string_view family_name(Family family);
-
-/// The family named `name`, or nullopt.
-std::optional<Family> family_from_name(std::string_view name);
-
-/// True for the families that lock EEPROM items while Torque Enable is 1 (X, MX 2.0, XL-320, P,
-/// PRO: includes/control_table.md); the Protocol 1.0 families lock through Lock(47) instead.
-bool locks_eeprom_with_torque(Family family);
 
 /// Where an item lives: EEPROM keeps its value across power cycles and is write-locked while
 /// torque is on; RAM returns to its initial value at power-on.
@@ -121,7 +109,7 @@ struct ModelSpec {
   std::string title;  ///< e.g. "XM430-W350"
   std::uint16_t model_number = 0;
   std::uint8_t firmware_version = 0;
-  Family family = Family::X;
+  Family family = Family::X;              ///< its traits: traits()
   std::vector<wire::Protocol> protocols;  ///< default first
   std::uint8_t default_id = 1;
   std::vector<BaudRate> baud_rates;
@@ -139,6 +127,8 @@ struct ModelSpec {
   /// when they are built. Filled by index_items().
   std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> item_index;
 
+  /// What the model's family does beyond its control table (family_traits.hpp).
+  const FamilyTraits& traits() const { return traits_of(family); }
   /// Fills item_index from `items`; call it whenever `items` is set (the loader does).
   void index_items();
   /// The item with `key`, or nullptr.

@@ -46,8 +46,7 @@ constexpr std::int64_t kBusWatchdogError = -1;
 constexpr std::size_t kV1MaxStatusParams = 0xFF - 2;
 
 bool is_v1_family(Family family) {
-  return family == Family::Ax || family == Family::Rx || family == Family::Ex ||
-         family == Family::Mx1;
+  return traits_of(family).protocol1_firmware;
 }
 
 }  // namespace
@@ -119,11 +118,12 @@ std::uint8_t Servo::instruction_error() const {
 }
 
 bool Servo::supports_fast_read() const {
-  return (spec().family == Family::X && spec().axes == 1) || spec().family == Family::P;
+  const FastRead fast = spec().traits().fast_read;
+  return fast == FastRead::All || (fast == FastRead::SingleAxis && spec().axes == 1);
 }
 
 bool Servo::supports_v1_bulk_read() const {
-  return spec().family == Family::Mx1 || spec().family == Family::Mx2 || spec().family == Family::X;
+  return spec().traits().v1_bulk_read;
 }
 
 ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {

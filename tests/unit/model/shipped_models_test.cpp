@@ -247,6 +247,28 @@ TEST_CASE("Every shipped model states its motor figures, each with a note naming
   CHECK(by_name("ax-12a")->motion.nominal_voltage_v == std::optional(12.0));
 }
 
+TEST_CASE("Every shipped model has the items its family's drive selects modes with",
+          "[model][shipped]") {
+  for (const auto& spec : shipped_models()) {
+    INFO(spec->name << " (" << model::family_name(spec->family) << ")");
+    const bool operating_mode = spec->find("operating_mode") != nullptr;
+    const bool angle_limits =
+        spec->find("cw_angle_limit") != nullptr && spec->find("ccw_angle_limit") != nullptr;
+    switch (spec->traits().drive) {
+      case model::DriveKind::JointWheel:
+        CHECK_FALSE(operating_mode);
+        CHECK((angle_limits || spec->find("control_mode") != nullptr));
+        CHECK(spec->find("moving_speed") != nullptr);
+        CHECK(spec->find("torque_limit") != nullptr);
+        break;
+      case model::DriveKind::OperatingMode:
+        CHECK(operating_mode);
+        CHECK_FALSE(angle_limits);
+        break;
+    }
+  }
+}
+
 TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[model][shipped]") {
   const auto schema = nlohmann::json::parse(slurp(kModels / "schema" / "model.schema.json"));
   auto keys_of = [](const nlohmann::json& properties) {
@@ -265,4 +287,14 @@ TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[mo
         std::set<std::string>{"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma",
                               "no_load_speed_rpm", "stall_torque_nm", "nominal_voltage_v",
                               "stall_current_a", "acceleration_unit_rpm2"});
+}
+
+TEST_CASE("The JSON Schema names the families of the traits table, in its order",
+          "[model][shipped]") {
+  const auto schema = nlohmann::json::parse(slurp(kModels / "schema" / "model.schema.json"));
+  std::string names;
+  for (const auto& name : schema.at("properties").at("family").at("enum")) {
+    names += (names.empty() ? "" : ", ") + name.get<std::string>();
+  }
+  CHECK(names == model::family_names());
 }

@@ -1,0 +1,148 @@
+#include "model/family_traits.hpp"
+
+#include <array>
+#include <cstddef>
+
+namespace dxlemu::model {
+namespace {
+
+// Shutdown / Hardware Error Status of X and MX(2.0) (includes/control_table_shutdown.md).
+constexpr FaultBits kXFaultBits = {.input_voltage = 0x01,
+                                   .overheating = 0x04,
+                                   .overload = 0x20,
+                                   .electrical_shock = 0x10,
+                                   .encoder = 0x08};
+// P and PRO report the motor's Hall sensor too (bit 1).
+constexpr FaultBits kPFaultBits = {.input_voltage = 0x01,
+                                   .overheating = 0x04,
+                                   .overload = 0x20,
+                                   .electrical_shock = 0x10,
+                                   .encoder = 0x08,
+                                   .hall_sensor = 0x02};
+// XL-320 Shutdown(18): bit 0 overload, bit 1 overheating, bit 2 input voltage.
+constexpr FaultBits kXl320FaultBits = {
+    .input_voltage = 0x04, .overheating = 0x02, .overload = 0x01};
+
+// MX 1.0 multi-turn mode: both angle limits at 4095 (includes/control_table_mx_angle_limit.md).
+constexpr std::int64_t kMx1MultiTurnLimit = 4095;
+
+constexpr FamilyTraits with_name(FamilyTraits row, Family family, std::string_view name) {
+  row.family = family;
+  row.name = name;
+  return row;
+}
+
+// A row names the traits where the family differs from the defaults in family_traits.hpp; a
+// family like another is that row with its differences.
+
+constexpr FamilyTraits kX = {.family = Family::X,
+                             .name = "x",
+                             .drive = DriveKind::OperatingMode,
+                             .eeprom_locked_by_torque = true,
+                             .extended_goals = ExtendedGoals::Turns,
+                             .torque_on_by_goal = TorqueOnByGoal::DriveModeBit,
+                             .torque_on_goal = TorqueOnGoal::Holds,
+                             .one_turn_at_boot_and_torque_on = true,
+                             .drive_mode_reverses = true,
+                             .error_reaction = ErrorReaction::LatchedShutdown,
+                             .fault_bits = kXFaultBits,
+                             .fast_read = FastRead::SingleAxis,
+                             .v1_bulk_read = true};
+
+constexpr FamilyTraits kMx2 = [] {
+  FamilyTraits row = with_name(kX, Family::Mx2, "mx2");
+  row.fast_read = FastRead::None;
+  return row;
+}();
+
+constexpr FamilyTraits kP = [] {
+  FamilyTraits row = with_name(kX, Family::P, "p");
+  row.extended_goals = ExtendedGoals::ItemWidth;
+  row.fault_bits = kPFaultBits;
+  row.fast_read = FastRead::All;
+  row.v1_bulk_read = false;
+  return row;
+}();
+
+// PRO: no Drive Mode item, no extended goal range, Protocol 2.0 only.
+constexpr FamilyTraits kPro = [] {
+  FamilyTraits row = with_name(kP, Family::Pro, "pro");
+  row.extended_goals = ExtendedGoals::ItemRange;
+  row.drive_mode_reverses = false;
+  row.fast_read = FastRead::None;
+  return row;
+}();
+
+// AX, and RX and EX like it.
+constexpr FamilyTraits kAx = {.family = Family::Ax,
+                              .name = "ax",
+                              .drive = DriveKind::JointWheel,
+                              .goal_within_angle_limits = true,
+                              .torque_on_by_goal = TorqueOnByGoal::Always,
+                              .torque_on_goal = TorqueOnGoal::MovesToGoal,
+                              .error_reaction = ErrorReaction::AlarmShutdown,
+                              .fault_bits = kProtocol1FaultBits,
+                              .protocol1_firmware = true};
+
+constexpr FamilyTraits kMx1 = [] {
+  FamilyTraits row = with_name(kAx, Family::Mx1, "mx1");
+  row.multi_turn_angle_limit = kMx1MultiTurnLimit;
+  row.v1_bulk_read = true;
+  return row;
+}();
+
+// XL-320: a Protocol 2.0 servo with the joint and wheel modes of the 1.0 families.
+constexpr FamilyTraits kXl320 = {.family = Family::Xl320,
+                                 .name = "xl320",
+                                 .drive = DriveKind::JointWheel,
+                                 .goal_within_angle_limits = true,
+                                 .eeprom_locked_by_torque = true,
+                                 .torque_on_goal = TorqueOnGoal::MovesToGoal,
+                                 .error_reaction = ErrorReaction::LatchedShutdown,
+                                 .fault_bits = kXl320FaultBits};
+
+// In the order of `Family`: traits_of() indexes it.
+constexpr std::array<FamilyTraits, 9> kFamilies = {
+    kX,     kMx2, kMx1, kAx, with_name(kAx, Family::Rx, "rx"), with_name(kAx, Family::Ex, "ex"),
+    kXl320, kP,   kPro,
+};
+
+constexpr bool rows_in_family_order() {
+  for (std::size_t i = 0; i < kFamilies.size(); ++i) {
+    if (static_cast<std::size_t>(kFamilies[i].family) != i) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(rows_in_family_order(), "kFamilies lists one row per Family, in enum order");
+
+}  // namespace
+
+const FamilyTraits& traits_of(Family family) {
+  return kFamilies.at(static_cast<std::size_t>(family));
+}
+
+std::string_view family_name(Family family) {
+  return traits_of(family).name;
+}
+
+std::optional<Family> family_from_name(std::string_view name) {
+  for (const FamilyTraits& row : kFamilies) {
+    if (row.name == name) {
+      return row.family;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string family_names() {
+  std::string out;
+  for (const FamilyTraits& row : kFamilies) {
+    out += out.empty() ? "" : ", ";
+    out += row.name;
+  }
+  return out;
+}
+
+}  // namespace dxlemu::model

@@ -1,0 +1,151 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "wire/status_error.hpp"
+
+namespace dxlemu::model {
+
+/// Behaviour family: which rules of the e-Manual a model follows beyond its control table. Each
+/// family is one row of the traits table (family_traits.cpp), in this order.
+enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro };
+
+/// How a family's goal items select a control mode and move the motor, and how the motor shows
+/// in its Present motion items: one implementation of model/drive.hpp each.
+enum class DriveKind {
+  /// Joint or wheel mode by CW/CCW Angle Limit (XL-320: Control Mode); Moving Speed and Torque
+  /// Limit; positions within one turn; Compliance (AX, RX, EX); Present Speed and Load as a
+  /// 0 ~ 1023 magnitude with a direction bit (model/joint_wheel_drive.*).
+  JointWheel,
+  /// Operating Mode selects current, velocity, position, extended position, current-based
+  /// position or PWM control; Profile Velocity/Acceleration and Drive Mode shape the moves
+  /// (model/operating_mode_drive.*).
+  OperatingMode,
+};
+
+/// The range Goal Position takes in Extended and Current-based Position Control Mode.
+enum class ExtendedGoals {
+  /// No rule: the item's own range and limit items (PRO, and families without those modes).
+  ItemRange,
+  /// -256 ~ 256 turns (X, MX(2.0): includes/control_table_opmode_six_2.md).
+  Turns,
+  /// The item's whole signed width (P).
+  ItemWidth,
+};
+
+/// Whether writing Goal Position turns torque on.
+enum class TorqueOnByGoal {
+  Never,
+  /// Always (Protocol 1.0 families: a goal write makes the servo move).
+  Always,
+  /// When Drive Mode's Torque On by Goal Update bit is set (includes/control_table_drivemode.md).
+  DriveModeBit,
+};
+
+/// What torque on does to the goal.
+enum class TorqueOnGoal {
+  /// The servo moves to Goal Position (Protocol 1.0 families: power-on set it to where the shaft
+  /// was).
+  MovesToGoal,
+  /// The servo holds where it is: Goal Position takes the present position, so torque on never
+  /// makes it jump (docs/motion.md).
+  Holds,
+};
+
+/// How hardware errors stop the servo.
+enum class ErrorReaction {
+  /// Protocol 1.0 Alarm Shutdown: the errors are in the error byte of every status while they
+  /// last; one selected in Alarm Shutdown sets Torque Limit to 0; Overload lasts until Torque
+  /// Limit is written (includes/control_table_alarm_shutdown.md).
+  AlarmShutdown,
+  /// An error selected in Shutdown latches in Hardware Error Status and turns torque off; only a
+  /// reboot clears it (includes/control_table_shutdown.md).
+  LatchedShutdown,
+};
+
+/// Which models of a family take part in Fast Sync Read and Fast Bulk Read.
+enum class FastRead {
+  None,
+  /// Single-axis models only (X: not 2XL430/2XC430; protocol2.md "Fast Sync Read").
+  SingleAxis,
+  All,
+};
+
+/// The bit of each hardware error in a family's Shutdown, Hardware Error Status and Alarm LED
+/// items (and the Protocol 1.0 status error byte); 0: the family cannot report it.
+struct FaultBits {
+  std::uint8_t input_voltage = 0;     ///< Input Voltage Error
+  std::uint8_t overheating = 0;       ///< Overheating Error
+  std::uint8_t overload = 0;          ///< Overload Error
+  std::uint8_t electrical_shock = 0;  ///< Electrical Shock Error
+  std::uint8_t encoder = 0;           ///< Motor Encoder Error
+  std::uint8_t hall_sensor = 0;       ///< Motor Hall Sensor Error
+};
+
+/// Everything a family does differently from the others that its model files cannot say. One
+/// row per family (family_traits.cpp) is the one place a family is added, of this maker or
+/// another (docs/model-format.md "Adding a family"): what no trait covers becomes a new trait,
+/// read where the behaviour is. The defaults are what a family without the trait does.
+struct FamilyTraits {
+  Family family = Family::X;
+  /// The family's name in model files (`"family": "x"`).
+  std::string_view name = {};
+  /// How the goal items move the motor and the Present motion items show it.
+  DriveKind drive = DriveKind::OperatingMode;
+  /// In joint mode Goal Position must lie between CW and CCW Angle Limit, else Angle Limit
+  /// Error (includes/ax-legacy-page-description-sections.md; model/family_rules.*).
+  bool goal_within_angle_limits = false;
+  /// Both angle limits at this value select multi-turn mode: any Goal Position, the position
+  /// absolute over turns (MX 1.0: 4095, includes/control_table_mx_angle_limit.md).
+  std::optional<std::int64_t> multi_turn_angle_limit = std::nullopt;
+  /// EEPROM items are locked while Torque Enable is 1 (includes/control_table.md); otherwise
+  /// through the Lock item, when the model has one.
+  bool eeprom_locked_by_torque = false;
+  /// Goal Position's range in Extended and Current-based Position Control Mode.
+  ExtendedGoals extended_goals = ExtendedGoals::ItemRange;
+  /// Whether a Goal Position write turns torque on.
+  TorqueOnByGoal torque_on_by_goal = TorqueOnByGoal::Never;
+  /// What torque on does to the goal.
+  TorqueOnGoal torque_on_goal = TorqueOnGoal::Holds;
+  /// Present Position returns within one turn at power-on, reboot, and torque on in Position
+  /// Control Mode (includes/control_table_opmode_note.md); otherwise the shaft's turn is kept.
+  bool one_turn_at_boot_and_torque_on = false;
+  /// Drive Mode bit 0 reverses positions, velocities, currents and PWM
+  /// (includes/control_table_drivemode.md). MX 1.0 and EX use that bit for dual-servo mode.
+  bool drive_mode_reverses = false;
+  /// How hardware errors stop the servo.
+  ErrorReaction error_reaction = ErrorReaction::LatchedShutdown;
+  /// Where each hardware error shows.
+  FaultBits fault_bits = {};
+  /// Protocol 1.0 generation firmware (AX, RX, EX, MX 1.0): Baud Rate values its table does not
+  /// list run at 2,000,000 / (n + 1) bps (includes/control_table_baudrate.md), and only MX 1.0
+  /// knows Reboot (protocol1.md "Reboot").
+  bool protocol1_firmware = false;
+  /// Which models take part in Fast Sync/Bulk Read (protocol2.md).
+  FastRead fast_read = FastRead::None;
+  /// Executes the Protocol 1.0 Bulk Read (protocol1.md: MX, MX(2.0), X).
+  bool v1_bulk_read = false;
+};
+
+/// The Protocol 1.0 error bits of the hardware errors (protocol1.md "Error"), which are also the
+/// Alarm LED and Alarm Shutdown bits of the Protocol 1.0 families.
+inline constexpr FaultBits kProtocol1FaultBits = {.input_voltage = wire::v1_error::kInputVoltage,
+                                                  .overheating = wire::v1_error::kOverheating,
+                                                  .overload = wire::v1_error::kOverload};
+
+/// The traits of `family`.
+const FamilyTraits& traits_of(Family family);
+
+/// The family's name in model files ("x", "mx2", ...).
+std::string_view family_name(Family family);
+
+/// The family named `name`, or nullopt.
+std::optional<Family> family_from_name(std::string_view name);
+
+/// Every family's name, in table order, comma-separated ("x, mx2, ...").
+std::string family_names();
+
+}  // namespace dxlemu::model

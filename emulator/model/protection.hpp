@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstdint>
+
+#include "model/hardware_fault.hpp"
+#include "model/motion_context.hpp"
+
+namespace dxlemu::model {
+
+/// Detects one servo's hardware errors after each tick (supply voltage outside its limits,
+/// winding over Temperature Limit, the motor at its torque limit for the Overload time, and the
+/// errors forced from outside) and reacts as its family does (FamilyTraits::error_reaction):
+/// Alarm Shutdown or a latched Shutdown. docs/motion.md "Hardware errors".
+class Protection {
+ public:
+  /// Protection working on `motion`, which must outlive it.
+  explicit Protection(MotionContext& motion) : motion_(motion) {}
+
+  /// Registers the table rules of the reaction: Torque Enable refused while Hardware Error
+  /// Status holds an error; a Torque Limit write ending a 1.0 Overload.
+  void install_hooks();
+
+  /// Hardware errors forced from outside (fault injection): each is detected as if its
+  /// condition were real, for as long as it is set.
+  FaultSet injected() const { return injected_; }
+  void set_injected(FaultSet faults) { injected_ = faults; }
+
+  /// Checks the motor's state after a tick and reacts: a shutdown turns torque off (or sets
+  /// Torque Limit to 0) and ends the move.
+  void check();
+
+  /// The errors a Protocol 1.0 status reports in its error byte now: the 1.0 families' errors
+  /// of the last check, or a 2.0 model's latched errors in the 1.0 bits.
+  std::uint8_t v1_error_bits() const;
+
+  /// Power-on or reboot: no Overload building up or latched.
+  void reset();
+
+ private:
+  void alarm_shutdown(FaultSet active);
+  void latch(FaultSet active);
+
+  MotionContext& motion_;
+  FaultSet injected_ = 0;
+  double at_limit_ms_ = 0;         // how long the motor has been at its torque limit
+  bool overload_latched_ = false;  // 1.0: until Torque Limit is written
+  std::uint8_t v1_errors_ = 0;     // 1.0 error bits from the last check
+};
+
+}  // namespace dxlemu::model

@@ -1,0 +1,114 @@
+// The table of family traits (model/family_traits.hpp): one row per family, found by its name,
+// saying what the e-Manual says each family does beyond its control table.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "model/family_traits.hpp"
+#include "model/hardware_fault.hpp"
+
+using namespace dxlemu;
+using model::Family;
+using model::traits_of;
+
+namespace {
+
+const std::vector<std::pair<Family, std::string>> kNames = {
+    {Family::X, "x"},         {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},
+    {Family::Ax, "ax"},       {Family::Rx, "rx"},   {Family::Ex, "ex"},
+    {Family::Xl320, "xl320"}, {Family::P, "p"},     {Family::Pro, "pro"}};
+
+bool same_bits(const model::FaultBits& a, const model::FaultBits& b) {
+  return a.input_voltage == b.input_voltage && a.overheating == b.overheating &&
+         a.overload == b.overload && a.electrical_shock == b.electrical_shock &&
+         a.encoder == b.encoder && a.hall_sensor == b.hall_sensor;
+}
+
+}  // namespace
+
+TEST_CASE("Every family has one row, found by its name in model files", "[model][traits]") {
+  for (const auto& [family, name] : kNames) {
+    CAPTURE(name);
+    CHECK(traits_of(family).family == family);
+    CHECK(model::family_name(family) == name);
+    CHECK(model::family_from_name(name) == family);
+  }
+  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro");
+  CHECK_FALSE(model::family_from_name("dx").has_value());
+}
+
+TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down by alarm",
+          "[model][traits]") {
+  for (const Family family : {Family::Ax, Family::Rx, Family::Ex, Family::Mx1}) {
+    CAPTURE(model::family_name(family));
+    const model::FamilyTraits& t = traits_of(family);
+    CHECK(t.drive == model::DriveKind::JointWheel);
+    CHECK(t.goal_within_angle_limits);
+    CHECK_FALSE(t.eeprom_locked_by_torque);  // they lock EEPROM through Lock
+    CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::Always);
+    CHECK(t.torque_on_goal == model::TorqueOnGoal::MovesToGoal);
+    CHECK_FALSE(t.one_turn_at_boot_and_torque_on);
+    CHECK_FALSE(t.drive_mode_reverses);
+    CHECK(t.error_reaction == model::ErrorReaction::AlarmShutdown);
+    CHECK(same_bits(t.fault_bits, model::kProtocol1FaultBits));
+    CHECK(t.protocol1_firmware);
+  }
+  CHECK(traits_of(Family::Mx1).multi_turn_angle_limit == 4095);
+  CHECK_FALSE(traits_of(Family::Ax).multi_turn_angle_limit.has_value());
+}
+
+TEST_CASE("XL-320 moves like a 1.0 family but latches its errors in its own Shutdown bits",
+          "[model][traits]") {
+  const model::FamilyTraits& t = traits_of(Family::Xl320);
+  CHECK(t.drive == model::DriveKind::JointWheel);
+  CHECK(t.goal_within_angle_limits);
+  CHECK(t.eeprom_locked_by_torque);
+  CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::Never);
+  CHECK(t.error_reaction == model::ErrorReaction::LatchedShutdown);
+  CHECK(model::fault_bit(Family::Xl320, model::HardwareFault::Overload) == 0x01);
+  CHECK(model::fault_bit(Family::Xl320, model::HardwareFault::Overheating) == 0x02);
+  CHECK(model::fault_bit(Family::Xl320, model::HardwareFault::InputVoltage) == 0x04);
+  CHECK_FALSE(t.protocol1_firmware);
+}
+
+TEST_CASE("The Operating Mode families hold at torque on and latch their errors",
+          "[model][traits]") {
+  for (const Family family : {Family::X, Family::Mx2, Family::P, Family::Pro}) {
+    CAPTURE(model::family_name(family));
+    const model::FamilyTraits& t = traits_of(family);
+    CHECK(t.drive == model::DriveKind::OperatingMode);
+    CHECK_FALSE(t.goal_within_angle_limits);
+    CHECK(t.eeprom_locked_by_torque);
+    CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::DriveModeBit);
+    CHECK(t.torque_on_goal == model::TorqueOnGoal::Holds);
+    CHECK(t.one_turn_at_boot_and_torque_on);
+    CHECK(t.error_reaction == model::ErrorReaction::LatchedShutdown);
+    CHECK_FALSE(t.protocol1_firmware);
+  }
+  CHECK(traits_of(Family::X).extended_goals == model::ExtendedGoals::Turns);
+  CHECK(traits_of(Family::Mx2).extended_goals == model::ExtendedGoals::Turns);
+  CHECK(traits_of(Family::P).extended_goals == model::ExtendedGoals::ItemWidth);
+  CHECK(traits_of(Family::Pro).extended_goals == model::ExtendedGoals::ItemRange);
+  CHECK_FALSE(traits_of(Family::Pro).drive_mode_reverses);  // PRO has no Drive Mode
+  // Only P and PRO report the Hall sensor.
+  CHECK(model::fault_bit(Family::P, model::HardwareFault::HallSensor) == 0x02);
+  CHECK(model::fault_bit(Family::Pro, model::HardwareFault::HallSensor) == 0x02);
+  CHECK(model::fault_bit(Family::X, model::HardwareFault::HallSensor) == 0);
+}
+
+TEST_CASE(
+    "Fast Sync/Bulk Read and the 1.0 Bulk Read are for the families protocol2.md and "
+    "protocol1.md name",
+    "[model][traits]") {
+  for (const auto& [family, name] : kNames) {
+    CAPTURE(name);
+    const model::FamilyTraits& t = traits_of(family);
+    const auto fast = family == Family::X   ? model::FastRead::SingleAxis
+                      : family == Family::P ? model::FastRead::All
+                                            : model::FastRead::None;
+    CHECK(t.fast_read == fast);
+    CHECK(t.v1_bulk_read ==
+          (family == Family::Mx1 || family == Family::Mx2 || family == Family::X));
+  }
+}
