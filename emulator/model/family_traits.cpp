@@ -82,12 +82,14 @@ constexpr FamilyTraits kAx = {.family = Family::Ax,
                               .torque_on_goal = TorqueOnGoal::MovesToGoal,
                               .error_reaction = ErrorReaction::AlarmShutdown,
                               .fault_bits = kProtocol1FaultBits,
-                              .protocol1_firmware = true};
+                              .protocol1_firmware = true,
+                              .reboot = false};
 
 constexpr FamilyTraits kMx1 = [] {
   FamilyTraits row = with_name(kAx, Family::Mx1, "mx1");
   row.multi_turn_angle_limit = kMx1MultiTurnLimit;
   row.v1_bulk_read = true;
+  row.reboot = true;
   return row;
 }();
 

@@ -121,9 +121,11 @@ struct FamilyTraits {
   /// Where each hardware error shows.
   FaultBits fault_bits = {};
   /// Protocol 1.0 generation firmware (AX, RX, EX, MX 1.0): Baud Rate values its table does not
-  /// list run at 2,000,000 / (n + 1) bps (includes/control_table_baudrate.md), and only MX 1.0
-  /// knows Reboot (protocol1.md "Reboot").
+  /// list run at 2,000,000 / (n + 1) bps (includes/control_table_baudrate.md).
   bool protocol1_firmware = false;
+  /// Knows the Reboot instruction (protocol1.md "Reboot": MX (v40+), MX(2.0) and X; AX, RX and
+  /// EX answer it with Instruction Error).
+  bool reboot = true;
   /// Which models take part in Fast Sync/Bulk Read (protocol2.md).
   FastRead fast_read = FastRead::None;
   /// Executes the Protocol 1.0 Bulk Read (protocol1.md: MX, MX(2.0), X).

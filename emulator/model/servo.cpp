@@ -45,10 +45,6 @@ constexpr std::int64_t kBusWatchdogError = -1;
 // A 1.0 status's LENGTH is one byte and counts the parameters plus 2 (protocol1.md "Length").
 constexpr std::size_t kV1MaxStatusParams = 0xFF - 2;
 
-bool is_v1_family(Family family) {
-  return traits_of(family).protocol1_firmware;
-}
-
 }  // namespace
 
 Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDuration tick)
@@ -88,9 +84,10 @@ void Servo::commit_deferred() {
   }
   const std::int64_t index = table_.get(items_.baud_rate);
   const auto bps = spec().bps_for_index(index);
-  baud_bps_ = bps                           ? *bps
-              : is_v1_family(spec().family) ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
-                                            : 0;
+  baud_bps_ = bps ? *bps
+              : spec().traits().protocol1_firmware
+                  ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
+                  : 0;
   return_delay_ = microseconds(table_.get(items_.return_delay_time) * spec().return_delay_unit_us);
 }
 
@@ -217,8 +214,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           return do_factory_reset(ins.option, broadcast);
         } else if constexpr (std::is_same_v<T, wire::Reboot>) {
           ServoResponse reboot = from_table({}, write_time(0));
-          // protocol1.md "Reboot": MX (v40+), MX(2.0) and X only; AX, RX, EX do not know it.
-          if (is_v1_family(spec().family) && spec().family != Family::Mx1) {
+          if (!spec().traits().reboot) {
             reboot.error = instruction_error();
             return reboot;
           }

@@ -84,9 +84,7 @@ bool item_value_allowed(const model::Servo& servo, std::size_t item, std::int64_
   // Extended and Current-based Position Control Mode take goals over many turns instead of
   // the position range (includes/control_table_opmode_six_2.md; MotionModel's range rule).
   const auto mode = spec.index_of("operating_mode");
-  const bool multi_turn_family = spec.family == model::Family::X ||
-                                 spec.family == model::Family::Mx2 ||
-                                 spec.family == model::Family::P;
+  const bool multi_turn_family = spec.traits().extended_goals != model::ExtendedGoals::ItemRange;
   if (item_spec.key == "goal_position" && mode && multi_turn_family) {
     const std::int64_t m = servo.table().get(*mode);
     return m == kExtendedPositionMode || m == kCurrentBasedPositionMode;

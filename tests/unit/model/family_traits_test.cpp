@@ -56,6 +56,14 @@ TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down 
   }
   CHECK(traits_of(Family::Mx1).multi_turn_angle_limit == 4095);
   CHECK_FALSE(traits_of(Family::Ax).multi_turn_angle_limit.has_value());
+  // protocol1.md "Reboot": MX (v40+) knows it, AX, RX and EX do not.
+  CHECK(traits_of(Family::Mx1).reboot);
+  for (const Family family : {Family::Ax, Family::Rx, Family::Ex}) {
+    CHECK_FALSE(traits_of(family).reboot);
+  }
+  for (const Family family : {Family::X, Family::Mx2, Family::Xl320, Family::P, Family::Pro}) {
+    CHECK(traits_of(family).reboot);
+  }
 }
 
 TEST_CASE("XL-320 moves like a 1.0 family but latches its errors in its own Shutdown bits",
