@@ -14,7 +14,6 @@ using namespace dxlemu;
 using namespace std::chrono_literals;
 using sim::SimTime;
 using wire::Framer;
-using wire::FramingErrorKind;
 using wire::Protocol;
 
 namespace {
