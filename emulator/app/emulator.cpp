@@ -303,14 +303,11 @@ void Emulator::run(std::ostream& out) {
   for (std::size_t index = 0; index < ports_.size(); ++index) {
     const auto& port = ports_[index];
     bus::Bus& bus = *port->bus;
-    port->pty->start([this, &bus, index](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
+    port->pty->start([this, &bus](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
       driver_.catch_up();
       // The kernel took handover_ to bring the bytes here and will take about as long to take
       // the reply back: count them as written that much earlier (docs/timing.md).
       const sim::SimTime arrived = std::max(sim::SimTime{}, scheduler_.now() - handover_);
-      if (pcap_) {
-        pcap_->client_bytes(index, bytes);  // where a damaged packet's bytes are found
-      }
       bus.receive(bytes, arrived, bps);
       // Saved before rearm(), which delivers replies due now (every reply under fast and manual
       // timing): an EEPROM write is in the state file before its status reaches the client, so

@@ -1,12 +1,10 @@
 #pragma once
 
-#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <ostream>
 #include <span>
-#include <vector>
 
 #include "sim/sim_time.hpp"
 #include "wire/frame.hpp"
@@ -39,11 +37,8 @@ enum class PcapDirection : std::uint8_t {
 /// read while it runs.
 ///
 /// Timestamps are `start` (wall-clock time of SimTime{}, read by the caller) plus simulated time;
-/// this class reads no clock. The stream must outlive the writer.
-///
-/// The framers report a damaged packet (bad CRC/checksum, impossible length, truncated) by its
-/// size only, so the writer keeps each port's latest client bytes (client_bytes) and finds the
-/// damaged packet's bytes there.
+/// this class reads no clock. The stream must outlive the writer. Every framer event carries its
+/// own bytes, so the writer keeps nothing between records.
 class PcapWriter {
  public:
   /// Writes the global header (magic 0xa1b2c3d4, version 2.4, microseconds, little-endian,
@@ -51,14 +46,10 @@ class PcapWriter {
   /// since the Unix epoch, at which simulated time was zero.
   PcapWriter(std::ostream& out, std::chrono::microseconds start);
 
-  /// The client wrote `bytes` to port number `port` (config order), before the port's bus hears
-  /// them. Writes nothing: the bytes are kept to recover damaged packets reported by heard().
-  void client_bytes(std::size_t port, std::span<const std::uint8_t> bytes);
-
-  /// Writes a client-to-servos record for what port number `port`'s framers heard: a packet (its
-  /// raw bytes, stamped with its last byte's arrival) or a damaged packet (its bytes as found
-  /// among client_bytes, stamped with its first byte's arrival; nothing when they cannot be
-  /// found).
+  /// Writes a client-to-servos record for what port number `port`'s framers heard (config
+  /// order): a packet, stamped with its last byte's arrival, or a damaged packet (bad
+  /// CRC/checksum, impossible length, truncated) as far as it goes, stamped with its first byte's
+  /// arrival. Garbage between packets is not recorded (docs/pcap.md).
   void heard(std::size_t port, const wire::FramerEvent& event);
 
   /// Writes a servos-to-client record: `bytes` delivered at `at` on port number `port` by servos
@@ -72,17 +63,8 @@ class PcapWriter {
              std::span<const std::uint8_t> bytes);
 
  private:
-  /// The latest bytes a port's client wrote, and for each protocol's framer where its next
-  /// packet or failure can start (framers report in arrival order, one protocol at a time).
-  struct Tape {
-    std::vector<std::uint8_t> bytes;
-    std::array<std::size_t, 2> next{};  // indexed by protocol - 1
-  };
-  Tape& tape(std::size_t port);
-
   std::ostream& out_;
   std::chrono::microseconds start_;
-  std::vector<Tape> tapes_;
 };
 
 }  // namespace dxlemu::app

@@ -55,6 +55,11 @@ struct FramingError {
   sim::SimTime at{};
   /// Position of the first byte concerned among all the bytes fed to the framer.
   std::uint64_t offset = 0;
+  /// The bytes concerned as they were on the wire (`bytes` of them, from `offset` on): the skipped
+  /// run for Garbage, header, ID and LENGTH for ImpossibleLength, the whole packet for BadCheck,
+  /// the partial packet for Truncated. Last, so that initialisations listing the fields above in
+  /// order still compile; empty in an error made outside a Framer.
+  std::vector<std::uint8_t> raw{};
 
   bool operator==(const FramingError&) const = default;
 };

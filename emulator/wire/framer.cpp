@@ -166,7 +166,11 @@ void Framer::flush_garbage(std::vector<FramerEvent>& out) {
   e.bytes = garbage_count_;
   e.at = garbage_at_;
   e.offset = garbage_offset_;
-  out.emplace_back(e);
+  // A run is contiguous (an error or a frame flushes it) and every scan flushes before compact(),
+  // so its bytes are still in buf_; one copy per run, however long, never per byte.
+  const auto first = buf_.begin() + static_cast<std::ptrdiff_t>(garbage_offset_ - dropped_);
+  e.raw.assign(first, first + static_cast<std::ptrdiff_t>(garbage_count_));
+  out.emplace_back(std::move(e));
   garbage_count_ = 0;
 }
 
@@ -187,7 +191,9 @@ void Framer::reject(FramingErrorKind kind, std::size_t pos, std::size_t bytes,
   if (instruction_at < pos + bytes) {
     e.instruction = buf_[instruction_at];
   }
-  out.emplace_back(e);
+  const auto first = buf_.begin() + static_cast<std::ptrdiff_t>(pos);
+  e.raw.assign(first, first + static_cast<std::ptrdiff_t>(bytes));
+  out.emplace_back(std::move(e));
   // Rescan from the byte after the failed header's first byte; the rejected bytes are not
   // reported a second time as garbage, but a packet starting inside them is still found.
   quiet_end_ = std::max(quiet_end_, pos + bytes);

@@ -35,7 +35,8 @@ struct FrameFormat {
 };
 
 /// Incremental framer for one protocol. Accepts bytes split anywhere, several packets per chunk
-/// and garbage around them; yields verified frames and framing errors in arrival order.
+/// and garbage around them; yields verified frames and framing errors in arrival order, each with
+/// the bytes it covers (`raw`), so that no one outside wire/ needs to find them again.
 ///
 /// After a failed header (invalid ID, impossible length, bad CRC/checksum, timeout) it rescans
 /// from the byte after the failed header's first byte, so a packet that starts inside rejected

@@ -1,5 +1,5 @@
-// pcap captures (docs/pcap.md): the global header and records, byte for byte, and how the bytes of
-// damaged packets are found among what the client wrote.
+// pcap captures (docs/pcap.md): the global header and records, byte for byte, with damaged packets
+// recorded from the bytes their framing errors carry.
 #include <catch2/catch.hpp>
 #include <sstream>
 
@@ -50,10 +50,9 @@ Bytes with_pseudo_header(std::uint8_t direction, std::uint8_t protocol, std::uin
   return out;
 }
 
-// What the bus does: every client byte goes to the writer first, then to the framer, whose events
-// (garbage aside, which the bus only counts) reach the writer's heard().
+// What the bus does: the client's bytes go to the framer, whose events (garbage aside, which the
+// bus only counts) reach the writer's heard().
 void hear(app::PcapWriter& writer, wire::Framer& framer, const Bytes& bytes, sim::SimTime at) {
-  writer.client_bytes(0, bytes);
   std::vector<wire::FramerEvent> events;
   framer.feed(bytes, at, events);
   for (const auto& event : events) {
@@ -114,8 +113,7 @@ TEST_CASE("A reply sent is a servos-to-client record with its protocol and port 
                            with_pseudo_header(1, 1, app::kPcapPortOverflow, status)});
 }
 
-TEST_CASE("A bad CRC packet is recorded with its bytes, found among the client's bytes",
-          "[app][pcap]") {
+TEST_CASE("A bad CRC packet is recorded with its bytes", "[app][pcap]") {
   std::ostringstream out;
   app::PcapWriter writer(out, kStart);
   wire::Framer framer(wire::Protocol::V2);
@@ -140,6 +138,35 @@ TEST_CASE("A truncated packet is recorded with the bytes that arrived", "[app][p
   hear(writer, framer, ping, sim::SimTime{} + 1s);  // after the 100 ms inter-byte timeout
   CHECK(records(bytes_of(out)) == std::vector<Bytes>{with_pseudo_header(0, 1, 0, partial),
                                                      with_pseudo_header(0, 1, 0, ping)});
+}
+
+TEST_CASE("A header with an impossible length is recorded as far as it goes", "[app][pcap]") {
+  std::ostringstream out;
+  app::PcapWriter writer(out, kStart);
+  wire::Framer framer(wire::Protocol::V2);
+  const Bytes header = {0xFF, 0xFF, 0xFD, 0x00, 0x03, 0xFF, 0xFF};  // LENGTH 65535
+  const Bytes ping = wire::encode_instruction({wire::Protocol::V2, 3, wire::Ping{}});
+  Bytes line = header;
+  line.insert(line.end(), ping.begin(), ping.end());
+  hear(writer, framer, line, sim::SimTime{});
+  CHECK(records(bytes_of(out)) ==
+        std::vector<Bytes>{with_pseudo_header(0, 2, 0, header), with_pseudo_header(0, 2, 0, ping)});
+}
+
+TEST_CASE("Garbage between packets is not recorded, even when it is reported", "[app][pcap]") {
+  std::ostringstream out;
+  app::PcapWriter writer(out, kStart);
+  wire::Framer framer(wire::Protocol::V1);
+  const Bytes ping = wire::encode_instruction({wire::Protocol::V1, 2, wire::Ping{}});
+  Bytes line = {0x00, 0x13, 0x37};
+  line.insert(line.end(), ping.begin(), ping.end());
+  std::vector<wire::FramerEvent> events;
+  framer.feed(line, sim::SimTime{}, events);
+  REQUIRE(events.size() == 2);
+  for (const auto& event : events) {
+    writer.heard(0, event);
+  }
+  CHECK(records(bytes_of(out)) == std::vector<Bytes>{with_pseudo_header(0, 1, 0, ping)});
 }
 
 TEST_CASE("A delivery longer than the snap length is cut with its full length kept",
