@@ -38,9 +38,7 @@ const char* failure_name(wire::FramingErrorKind kind) {
 // The describe() text of one status frame (or a Fast reply, whose block lengths only the
 // request knows), or why it does not decode.
 std::string status_text(const wire::Frame& frame) {
-  constexpr std::uint8_t kStatusInstruction = 0x55;
-  if (frame.protocol == wire::Protocol::V2 && frame.id == wire::kBroadcastId &&
-      frame.instruction == kStatusInstruction) {
+  if (wire::is_fast_reply(frame.protocol, frame.id, frame.instruction)) {
     return "id=254 fast_reply";
   }
   const auto status = wire::decode_status(frame);

@@ -67,6 +67,14 @@ struct FramingError {
 /// One output of a Framer, in the order the bytes arrived.
 using FramerEvent = std::variant<Frame, FramingError>;
 
+/// True for the header of a Fast Sync/Bulk Read reply: Protocol 2.0, ID 0xFE, instruction 0x55
+/// (protocol2.md "Fast Sync Read (0x8A)"). It is never stuffed, and only the request knows its
+/// blocks' lengths.
+inline bool is_fast_reply(Protocol protocol, std::uint8_t id, std::uint8_t instruction) {
+  return protocol == Protocol::V2 && id == kBroadcastId &&
+         instruction == to_byte(InstructionCode::Status);
+}
+
 /// Position of the first byte an event covers among all the bytes fed to its framer.
 inline std::uint64_t offset_of(const FramerEvent& event) {
   const auto* frame = std::get_if<Frame>(&event);

@@ -131,9 +131,8 @@ Frame Framer::make_frame(std::size_t pos, std::size_t total) const {
   // protocol2.md "Processing Order of Reception": remove stuffing once the CRC matched, over the
   // same region the sender stuffed (instruction byte included, as the DynamixelSDK does). Fast
   // Sync/Bulk Read replies (ID 0xFE, instruction 0x55) are sent unstuffed and stay as sent.
-  const bool fast_reply =
-      frame.id == kBroadcastId && frame.instruction == to_byte(InstructionCode::Status);
-  if (format_.protocol == Protocol::V2 && !fast_reply) {
+  if (format_.protocol == Protocol::V2 &&
+      !is_fast_reply(format_.protocol, frame.id, frame.instruction)) {
     const std::vector<std::uint8_t> plain = unstuff(region);
     frame.params.assign(plain.begin() + 1, plain.end());
   } else {
