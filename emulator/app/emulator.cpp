@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "app/bus_port_view.hpp"
 #include "app/log.hpp"
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
@@ -29,6 +30,7 @@ struct Emulator::Port {
   PortConfig config;
   std::unique_ptr<io::PtyLink> pty;
   std::unique_ptr<bus::Bus> bus;
+  std::unique_ptr<BusPortView> view;  // the bus as the control API sees it
 };
 
 Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options)
@@ -73,6 +75,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     port->config = port_config;
     port->pty = std::make_unique<io::PtyLink>(io_, port_config.link);
     port->bus = std::make_unique<bus::Bus>(scheduler_, *port->pty);
+    port->view = std::make_unique<BusPortView>(*port->bus);
     if (options_.timing != TimingMode::Realtime) {
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
@@ -194,10 +197,10 @@ std::vector<std::string> Emulator::port_names() const {
   return names;
 }
 
-bus::Bus* Emulator::bus(std::string_view port) {
+control::PortView* Emulator::port(std::string_view name) {
   for (const auto& p : ports_) {
-    if (p->config.name == port) {
-      return p->bus.get();
+    if (p->config.name == name) {
+      return p->view.get();
     }
   }
   return nullptr;

@@ -69,7 +69,7 @@ class Emulator : public control::Target {
 
   // control::Target
   std::vector<std::string> port_names() const override;
-  bus::Bus* bus(std::string_view port) override;
+  control::PortView* port(std::string_view name) override;
   nlohmann::json port_info(std::string_view port) const override;
   sim::SimTime now() const override;
   bool manual_clock() const override;
