@@ -13,6 +13,7 @@
 #include "app/log.hpp"
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
+#include "control/reply.hpp"
 #include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
 #include "io/pty_handover.hpp"
@@ -125,13 +126,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         finish_handler();  // a set of an EEPROM item is kept like a bus write
         return reply;
       },
-      [](std::size_t limit) {
-        return nlohmann::json{
-            {"id", nullptr},
-            {"ok", false},
-            {"error", "request longer than " + std::to_string(limit) + " bytes: discarded"}}
-            .dump();
-      });
+      io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
   control_->on_close([this](io::ControlSession& session) { subscribers_.erase(session.id()); });
   if (options_.scenario) {
     // Its steps count from now, the start of simulated time.

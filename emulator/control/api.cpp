@@ -11,6 +11,7 @@
 #include "control/fault_commands.hpp"
 #include "control/item_commands.hpp"
 #include "control/port_commands.hpp"
+#include "control/reply.hpp"
 #include "control/request.hpp"
 #include "control/scenario.hpp"
 #include "control/trace_commands.hpp"
@@ -147,34 +148,30 @@ std::string Api::handle(std::string_view line, std::uint64_t client) {
   try {
     request = parse(line);
   } catch (const Refusal& e) {
-    return dumped({{"id", nullptr}, {"ok", false}, {"error", e.what()}});
+    return reply_line(error_reply(nullptr, e.what()));
   }
-  return dumped(run(request, client));
+  return reply_line(run(request, client));
 }
 
 ordered_json Api::run(const ordered_json& request, std::uint64_t client) {
-  ordered_json reply = {{"id", nullptr}};
+  ordered_json id = nullptr;
   try {
     if (!request.is_object()) {
       refuse("a request must be a JSON object, e.g. {\"id\":1,\"cmd\":\"list\"}");
     }
-    if (const auto id = request.find("id"); id != request.end()) {
-      reply["id"] = *id;
+    if (const auto given = request.find("id"); given != request.end()) {
+      id = *given;
     }
     const Command& command = command_for(request);
     check_fields(request, command);
     ordered_json result = command.run(target_, Args(request, command.name, client));
-    reply["ok"] = true;
-    reply["result"] = std::move(result);
+    return ok_reply(id, std::move(result));
   } catch (const Refusal& e) {
-    reply["ok"] = false;
-    reply["error"] = e.what();
+    return error_reply(std::move(id), e.what());
   } catch (const std::exception& e) {
     // Our own bug (or memory exhaustion): say so rather than drop the connection.
-    reply["ok"] = false;
-    reply["error"] = std::string("internal error: ") + e.what();
+    return error_reply(std::move(id), internal_error(e.what()));
   }
-  return reply;
 }
 
 std::optional<std::string> Api::check(Target& target, const ordered_json& request) {

@@ -15,7 +15,6 @@
 #include <chrono>
 #include <cstring>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -47,21 +46,15 @@ void check(const boost::system::error_code& ec, const std::string& what) {
   }
 }
 
-// The reply when a callback throws although it is documented not to.
-std::string internal_error(std::string_view what) {
-  return nlohmann::ordered_json{
-      {"id", nullptr}, {"ok", false}, {"error", "internal error: " + std::string(what)}}
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
+// A callback documented not to throw that throws anyway gets the internal_error reply.
 template <typename Fn>
-std::string call_safely(Fn&& fn) {
+std::string call_safely(const ControlServer::Replies& replies, Fn&& fn) {
   try {
     return std::forward<Fn>(fn)();
   } catch (const std::exception& e) {
-    return internal_error(e.what());
+    return replies.internal_error(e.what());
   } catch (...) {
-    return internal_error("unknown exception");
+    return replies.internal_error("unknown exception");
   }
 }
 
@@ -112,7 +105,7 @@ void remove_stale_socket(const std::filesystem::path& path) {
 struct ControlServer::State : std::enable_shared_from_this<State> {
   class Session;
 
-  State(boost::asio::io_context& io, std::filesystem::path path, Handler handler, Oversize oversize,
+  State(boost::asio::io_context& io, std::filesystem::path path, Handler handler, Replies replies,
         std::size_t max_line);
 
   void accept();
@@ -127,7 +120,7 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
   boost::asio::io_context& io;
   std::filesystem::path path;
   Handler handler;
-  Oversize oversize;
+  Replies replies;
   std::size_t max_line;
   std::function<void(ControlSession&)> on_close;
   stream_protocol::acceptor acceptor;
@@ -187,11 +180,11 @@ class ControlServer::State::Session final : public ControlSession,
 };
 
 ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path path,
-                            Handler handler, Oversize oversize, std::size_t max_line)
+                            Handler handler, Replies replies, std::size_t max_line)
     : io(io),
       path(std::move(path)),
       handler(std::move(handler)),
-      oversize(std::move(oversize)),
+      replies(std::move(replies)),
       max_line(max_line),
       acceptor(io),
       retry_timer(io) {
@@ -416,7 +409,8 @@ void ControlServer::State::Session::consume(std::string_view bytes, State& state
     if ((last == '\r' ? length - 1 : length) > state.max_line) {
       line_.clear();
       discarding_ = !complete;
-      std::string reply = call_safely([&] { return state.oversize(state.max_line); });
+      std::string reply =
+          call_safely(state.replies, [&] { return state.replies.oversize(state.max_line); });
       if (!reply.empty()) {
         send(std::move(reply));
       }
@@ -437,15 +431,15 @@ void ControlServer::State::Session::consume(std::string_view bytes, State& state
 }
 
 void ControlServer::State::Session::answer(std::string_view line, State& state) {
-  std::string reply = call_safely([&] { return state.handler(line, *this); });
+  std::string reply = call_safely(state.replies, [&] { return state.handler(line, *this); });
   if (!reply.empty()) {
     send(std::move(reply));
   }
 }
 
 ControlServer::ControlServer(boost::asio::io_context& io, std::filesystem::path path,
-                             Handler handler, Oversize oversize, std::size_t max_line)
-    : state_(std::make_shared<State>(io, std::move(path), std::move(handler), std::move(oversize),
+                             Handler handler, Replies replies, std::size_t max_line)
+    : state_(std::make_shared<State>(io, std::move(path), std::move(handler), std::move(replies),
                                      max_line)) {
   state_->accept();
 }
