@@ -1,9 +1,8 @@
+// The control socket's server: sessions, line splitting and write queues. What concerns the
+// socket's file on disk (stale sockets, mode, removal) is io/socket_file.*.
 #include "io/control_server.hpp"
 
-#include <fcntl.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <array>
@@ -13,11 +12,13 @@
 #include <boost/asio/write.hpp>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <map>
+#include <optional>
 #include <system_error>
 #include <utility>
 #include <vector>
+
+#include "io/socket_file.hpp"
 
 namespace dxlemu::io {
 namespace {
@@ -25,19 +26,9 @@ namespace {
 using boost::asio::local::stream_protocol;
 
 constexpr std::size_t kReadChunk = 4096;
-// Owner read and write: only the user who started dxlemu may connect.
-constexpr mode_t kSocketMode = S_IRUSR | S_IWUSR;
 // How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of file
 // descriptors). Retrying at once would spin, as the listening socket stays readable.
 constexpr std::chrono::milliseconds kAcceptRetry{100};
-
-std::string describe(const std::filesystem::path& path) {
-  return "control socket " + path.string();
-}
-
-[[noreturn]] void fail(int error, const std::string& what) {
-  throw std::system_error(error, std::generic_category(), what);
-}
 
 void check(const boost::system::error_code& ec, const std::string& what) {
   if (ec) {
@@ -55,48 +46,6 @@ std::string call_safely(const ControlServer::Replies& replies, Fn&& fn) {
     return replies.internal_error(e.what());
   } catch (...) {
     return replies.internal_error("unknown exception");
-  }
-}
-
-sockaddr_un address_of(const std::filesystem::path& path) {
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  std::memcpy(static_cast<char*>(address.sun_path), path.c_str(), path.native().size());
-  return address;
-}
-
-// A socket file nobody listens on is left behind by a server that crashed: replace it. Anything
-// else at `path` belongs to someone and is refused. The probe is a non-blocking connect, so a
-// live server with a full backlog (EAGAIN) counts as live rather than blocking us.
-void remove_stale_socket(const std::filesystem::path& path) {
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) != 0) {
-    if (errno == ENOENT) {
-      return;
-    }
-    fail(errno, "inspecting " + describe(path));
-  }
-  if (!S_ISSOCK(st.st_mode)) {
-    fail(EEXIST, describe(path) + ": the path exists and is not a socket");
-  }
-  const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (probe < 0) {
-    fail(errno, "probing " + describe(path));
-  }
-  const sockaddr_un address = address_of(path);
-  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API
-  const int connected =
-      ::connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address);
-  const int error = errno;
-  ::close(probe);
-  if (connected == 0 || error == EAGAIN) {
-    fail(EADDRINUSE, describe(path) + ": another server is listening on it");
-  }
-  if (error != ECONNREFUSED) {
-    fail(error, "probing " + describe(path));
-  }
-  if (::unlink(path.c_str()) != 0 && errno != ENOENT) {
-    fail(errno, "removing the stale " + describe(path));
   }
 }
 
@@ -125,9 +74,7 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
   std::function<void(ControlSession&)> on_close;
   stream_protocol::acceptor acceptor;
   boost::asio::steady_timer retry_timer;
-  // Identity of the socket file we created, so that the destructor unlinks only our own.
-  dev_t device = 0;
-  ino_t inode = 0;
+  FileIdentity file;  // the socket file we created, so that the destructor unlinks only our own
   std::uint64_t next_id = 1;
   std::map<std::uint64_t, std::shared_ptr<Session>> open;
   // Closed, with on_close not yet called.
@@ -188,12 +135,8 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
       max_line(max_line),
       acceptor(io),
       retry_timer(io) {
-  const std::string what = describe(this->path);
-  if (this->path.empty() || this->path.native().size() >= sizeof(sockaddr_un::sun_path)) {
-    fail(ENAMETOOLONG, what + ": a Unix socket path must have 1 to " +
-                           std::to_string(sizeof(sockaddr_un::sun_path) - 1) + " bytes");
-  }
-  remove_stale_socket(this->path);
+  const std::string what = describe_socket(this->path);
+  prepare_socket_path(this->path);
   boost::system::error_code ec;
   acceptor.open(stream_protocol(), ec);
   check(ec, "creating " + what);
@@ -203,13 +146,10 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
   ::fchmod(acceptor.native_handle(), kSocketMode);
   acceptor.bind(stream_protocol::endpoint(this->path.string()), ec);
   check(ec, "binding " + what);
-  struct stat st {};
-  const bool made =
-      ::chmod(this->path.c_str(), kSocketMode) == 0 && ::lstat(this->path.c_str(), &st) == 0;
+  const std::optional<FileIdentity> made = restrict_socket_file(this->path);
   const int error = errno;
   if (made) {
-    device = st.st_dev;
-    inode = st.st_ino;
+    file = *made;
     acceptor.listen(boost::asio::socket_base::max_listen_connections, ec);
   }
   if (!made || ec) {
@@ -290,10 +230,7 @@ void ControlServer::State::stop() {
   }
   open.clear();
   // Only our own socket file: if another server replaced it meanwhile, leave theirs alone.
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0 && st.st_dev == device && st.st_ino == inode) {
-    ::unlink(path.c_str());
-  }
+  remove_if_same(path, file);
   report_closed();
 }
 
