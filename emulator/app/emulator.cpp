@@ -268,6 +268,18 @@ void Emulator::save_state_if_changed() {
   if (!options_.state) {
     return;
   }
+  // Called on every PTY read: while no EEPROM byte has changed since the last look, there is
+  // nothing to compare.
+  std::uint64_t changes = 0;
+  for (const auto& port : ports_) {
+    for (const auto& servo : port->bus->servos()) {
+      changes += servo->table().eeprom_changes();
+    }
+  }
+  if (checked_eeprom_changes_ == changes) {
+    return;
+  }
+  // A byte may have changed and changed back: the images decide, as they always did.
   std::vector<std::vector<std::uint8_t>> images;
   for (const auto& port : ports_) {
     for (const auto& servo : port->bus->servos()) {
@@ -275,6 +287,7 @@ void Emulator::save_state_if_changed() {
     }
   }
   if (images == saved_eeprom_) {  // empty at first: the first call always writes
+    checked_eeprom_changes_ = changes;
     return;
   }
   BusState state;
@@ -286,6 +299,7 @@ void Emulator::save_state_if_changed() {
   }
   io::write_file_atomically(*options_.state, state_to_text(state));
   saved_eeprom_ = std::move(images);
+  checked_eeprom_changes_ = changes;
   log(LogLevel::Debug, "saved the EEPROM of every servo to " + options_.state->string());
 }
 
