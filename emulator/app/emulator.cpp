@@ -9,9 +9,11 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "app/bus_port_view.hpp"
 #include "app/log.hpp"
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
+#include "control/reply.hpp"
 #include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
 #include "io/pty_handover.hpp"
@@ -29,6 +31,7 @@ struct Emulator::Port {
   PortConfig config;
   std::unique_ptr<io::PtyLink> pty;
   std::unique_ptr<bus::Bus> bus;
+  std::unique_ptr<BusPortView> view;  // the bus as the control API sees it
 };
 
 Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options)
@@ -73,6 +76,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     port->config = port_config;
     port->pty = std::make_unique<io::PtyLink>(io_, port_config.link);
     port->bus = std::make_unique<bus::Bus>(scheduler_, *port->pty);
+    port->view = std::make_unique<BusPortView>(*port->bus);
     if (options_.timing != TimingMode::Realtime) {
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
@@ -122,13 +126,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         finish_handler();  // a set of an EEPROM item is kept like a bus write
         return reply;
       },
-      [](std::size_t limit) {
-        return nlohmann::json{
-            {"id", nullptr},
-            {"ok", false},
-            {"error", "request longer than " + std::to_string(limit) + " bytes: discarded"}}
-            .dump();
-      });
+      io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
   control_->on_close([this](io::ControlSession& session) { subscribers_.erase(session.id()); });
   if (options_.scenario) {
     // Its steps count from now, the start of simulated time.
@@ -194,10 +192,10 @@ std::vector<std::string> Emulator::port_names() const {
   return names;
 }
 
-bus::Bus* Emulator::bus(std::string_view port) {
+control::PortView* Emulator::port(std::string_view name) {
   for (const auto& p : ports_) {
-    if (p->config.name == port) {
-      return p->bus.get();
+    if (p->config.name == name) {
+      return p->view.get();
     }
   }
   return nullptr;
@@ -270,6 +268,18 @@ void Emulator::save_state_if_changed() {
   if (!options_.state) {
     return;
   }
+  // Called on every PTY read: while no EEPROM byte has changed since the last look, there is
+  // nothing to compare.
+  std::uint64_t changes = 0;
+  for (const auto& port : ports_) {
+    for (const auto& servo : port->bus->servos()) {
+      changes += servo->table().eeprom_changes();
+    }
+  }
+  if (checked_eeprom_changes_ == changes) {
+    return;
+  }
+  // A byte may have changed and changed back: the images decide, as they always did.
   std::vector<std::vector<std::uint8_t>> images;
   for (const auto& port : ports_) {
     for (const auto& servo : port->bus->servos()) {
@@ -277,6 +287,7 @@ void Emulator::save_state_if_changed() {
     }
   }
   if (images == saved_eeprom_) {  // empty at first: the first call always writes
+    checked_eeprom_changes_ = changes;
     return;
   }
   BusState state;
@@ -288,6 +299,7 @@ void Emulator::save_state_if_changed() {
   }
   io::write_file_atomically(*options_.state, state_to_text(state));
   saved_eeprom_ = std::move(images);
+  checked_eeprom_changes_ = changes;
   log(LogLevel::Debug, "saved the EEPROM of every servo to " + options_.state->string());
 }
 

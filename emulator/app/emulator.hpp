@@ -69,7 +69,7 @@ class Emulator : public control::Target {
 
   // control::Target
   std::vector<std::string> port_names() const override;
-  bus::Bus* bus(std::string_view port) override;
+  control::PortView* port(std::string_view name) override;
   nlohmann::json port_info(std::string_view port) const override;
   sim::SimTime now() const override;
   bool manual_clock() const override;
@@ -107,6 +107,9 @@ class Emulator : public control::Target {
   std::ofstream pcap_file_;
   std::unique_ptr<PcapWriter> pcap_;  // writes to pcap_file_; null without --pcap
   std::vector<std::vector<std::uint8_t>> saved_eeprom_;  // per servo, ports in order
+  /// The servos' ControlTable::eeprom_changes() summed when saved_eeprom_ was last compared with
+  /// them (each count only grows, so an equal sum means no EEPROM byte changed since).
+  std::optional<std::uint64_t> checked_eeprom_changes_;
   /// A control connection that asked for trace events (trace.subscribe) and its ports (all when
   /// empty). The server reports every close, so the session pointer never dangles.
   struct Subscriber {

@@ -41,20 +41,20 @@ Port port_of(Target& target, const Args& args) {
     refuse("\"port\" is required: there are " + std::to_string(names.size()) + " ports (" +
            joined(names) + ")");
   }
-  bus::Bus* bus = target.bus(name);
-  if (bus == nullptr) {
+  PortView* view = target.port(name);
+  if (view == nullptr) {
     refuse("port " + json_quoted(name) + " does not exist (ports: " + joined(names) + ")");
   }
-  return {name, *bus};
+  return {name, *view};
 }
 
 model::Servo& servo_on(const Port& port, std::int64_t id) {
   std::vector<model::Servo*> found;
   std::vector<std::string> ids;
-  for (const auto& servo : port.bus.servos()) {
+  for (model::Servo* servo : port.view.servos()) {
     ids.push_back(std::to_string(servo->id()));
     if (servo->id() == id) {
-      found.push_back(servo.get());
+      found.push_back(servo);
     }
   }
   if (found.empty()) {
@@ -71,7 +71,7 @@ model::Servo& servo_on(const Port& port, std::int64_t id) {
 model::Servo& addressed(Target& target, const Args& args) {
   const Port port = port_of(target, args);
   const std::int64_t id = args.required_integer("servo");
-  port.bus.catch_up();
+  port.view.catch_up();
   return servo_on(port, id);
 }
 

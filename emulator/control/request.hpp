@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "bus/bus.hpp"
+#include "control/port_view.hpp"
 #include "control/target.hpp"
 #include "model/servo.hpp"
 
@@ -135,7 +135,7 @@ class Args {
 /// A port a request names.
 struct Port {
   std::string name;
-  bus::Bus& bus;
+  PortView& view;
 };
 
 /// The port named by "port", or the only port when there is just one.

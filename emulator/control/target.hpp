@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "bus/bus.hpp"
+#include "control/port_view.hpp"
 #include "faults/injector.hpp"
 #include "sim/sim_time.hpp"
 
@@ -21,8 +21,8 @@ class Target {
   virtual ~Target() = default;
   /// The port names, in config order.
   virtual std::vector<std::string> port_names() const = 0;
-  /// The bus of `port`, or nullptr when there is no such port. The target owns it.
-  virtual bus::Bus* bus(std::string_view port) = 0;
+  /// The port named `name`, or nullptr when there is no such port. The target owns it.
+  virtual PortView* port(std::string_view name) = 0;
   /// Extra facts about a port for `list` (e.g. {"pty": "...", "link": "..."}): an object, which
   /// may be empty (or null).
   virtual nlohmann::json port_info(std::string_view port) const = 0;

@@ -1,9 +1,8 @@
+// The control socket's server: sessions, line splitting and write queues. What concerns the
+// socket's file on disk (stale sockets, mode, removal) is io/socket_file.*.
 #include "io/control_server.hpp"
 
-#include <fcntl.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <array>
@@ -13,12 +12,13 @@
 #include <boost/asio/write.hpp>
 #include <cerrno>
 #include <chrono>
-#include <cstring>
 #include <map>
-#include <nlohmann/json.hpp>
+#include <optional>
 #include <system_error>
 #include <utility>
 #include <vector>
+
+#include "io/socket_file.hpp"
 
 namespace dxlemu::io {
 namespace {
@@ -26,19 +26,9 @@ namespace {
 using boost::asio::local::stream_protocol;
 
 constexpr std::size_t kReadChunk = 4096;
-// Owner read and write: only the user who started dxlemu may connect.
-constexpr mode_t kSocketMode = S_IRUSR | S_IWUSR;
 // How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of file
 // descriptors). Retrying at once would spin, as the listening socket stays readable.
 constexpr std::chrono::milliseconds kAcceptRetry{100};
-
-std::string describe(const std::filesystem::path& path) {
-  return "control socket " + path.string();
-}
-
-[[noreturn]] void fail(int error, const std::string& what) {
-  throw std::system_error(error, std::generic_category(), what);
-}
 
 void check(const boost::system::error_code& ec, const std::string& what) {
   if (ec) {
@@ -47,63 +37,15 @@ void check(const boost::system::error_code& ec, const std::string& what) {
   }
 }
 
-// The reply when a callback throws although it is documented not to.
-std::string internal_error(std::string_view what) {
-  return nlohmann::ordered_json{
-      {"id", nullptr}, {"ok", false}, {"error", "internal error: " + std::string(what)}}
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
+// A callback documented not to throw that throws anyway gets the internal_error reply.
 template <typename Fn>
-std::string call_safely(Fn&& fn) {
+std::string call_safely(const ControlServer::Replies& replies, Fn&& fn) {
   try {
     return std::forward<Fn>(fn)();
   } catch (const std::exception& e) {
-    return internal_error(e.what());
+    return replies.internal_error(e.what());
   } catch (...) {
-    return internal_error("unknown exception");
-  }
-}
-
-sockaddr_un address_of(const std::filesystem::path& path) {
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  std::memcpy(static_cast<char*>(address.sun_path), path.c_str(), path.native().size());
-  return address;
-}
-
-// A socket file nobody listens on is left behind by a server that crashed: replace it. Anything
-// else at `path` belongs to someone and is refused. The probe is a non-blocking connect, so a
-// live server with a full backlog (EAGAIN) counts as live rather than blocking us.
-void remove_stale_socket(const std::filesystem::path& path) {
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) != 0) {
-    if (errno == ENOENT) {
-      return;
-    }
-    fail(errno, "inspecting " + describe(path));
-  }
-  if (!S_ISSOCK(st.st_mode)) {
-    fail(EEXIST, describe(path) + ": the path exists and is not a socket");
-  }
-  const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (probe < 0) {
-    fail(errno, "probing " + describe(path));
-  }
-  const sockaddr_un address = address_of(path);
-  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API
-  const int connected =
-      ::connect(probe, reinterpret_cast<const sockaddr*>(&address), sizeof address);
-  const int error = errno;
-  ::close(probe);
-  if (connected == 0 || error == EAGAIN) {
-    fail(EADDRINUSE, describe(path) + ": another server is listening on it");
-  }
-  if (error != ECONNREFUSED) {
-    fail(error, "probing " + describe(path));
-  }
-  if (::unlink(path.c_str()) != 0 && errno != ENOENT) {
-    fail(errno, "removing the stale " + describe(path));
+    return replies.internal_error("unknown exception");
   }
 }
 
@@ -112,7 +54,7 @@ void remove_stale_socket(const std::filesystem::path& path) {
 struct ControlServer::State : std::enable_shared_from_this<State> {
   class Session;
 
-  State(boost::asio::io_context& io, std::filesystem::path path, Handler handler, Oversize oversize,
+  State(boost::asio::io_context& io, std::filesystem::path path, Handler handler, Replies replies,
         std::size_t max_line);
 
   void accept();
@@ -127,14 +69,12 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
   boost::asio::io_context& io;
   std::filesystem::path path;
   Handler handler;
-  Oversize oversize;
+  Replies replies;
   std::size_t max_line;
   std::function<void(ControlSession&)> on_close;
   stream_protocol::acceptor acceptor;
   boost::asio::steady_timer retry_timer;
-  // Identity of the socket file we created, so that the destructor unlinks only our own.
-  dev_t device = 0;
-  ino_t inode = 0;
+  FileIdentity file;  // the socket file we created, so that the destructor unlinks only our own
   std::uint64_t next_id = 1;
   std::map<std::uint64_t, std::shared_ptr<Session>> open;
   // Closed, with on_close not yet called.
@@ -187,20 +127,16 @@ class ControlServer::State::Session final : public ControlSession,
 };
 
 ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path path,
-                            Handler handler, Oversize oversize, std::size_t max_line)
+                            Handler handler, Replies replies, std::size_t max_line)
     : io(io),
       path(std::move(path)),
       handler(std::move(handler)),
-      oversize(std::move(oversize)),
+      replies(std::move(replies)),
       max_line(max_line),
       acceptor(io),
       retry_timer(io) {
-  const std::string what = describe(this->path);
-  if (this->path.empty() || this->path.native().size() >= sizeof(sockaddr_un::sun_path)) {
-    fail(ENAMETOOLONG, what + ": a Unix socket path must have 1 to " +
-                           std::to_string(sizeof(sockaddr_un::sun_path) - 1) + " bytes");
-  }
-  remove_stale_socket(this->path);
+  const std::string what = describe_socket(this->path);
+  prepare_socket_path(this->path);
   boost::system::error_code ec;
   acceptor.open(stream_protocol(), ec);
   check(ec, "creating " + what);
@@ -210,13 +146,10 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
   ::fchmod(acceptor.native_handle(), kSocketMode);
   acceptor.bind(stream_protocol::endpoint(this->path.string()), ec);
   check(ec, "binding " + what);
-  struct stat st {};
-  const bool made =
-      ::chmod(this->path.c_str(), kSocketMode) == 0 && ::lstat(this->path.c_str(), &st) == 0;
+  const std::optional<FileIdentity> made = restrict_socket_file(this->path);
   const int error = errno;
   if (made) {
-    device = st.st_dev;
-    inode = st.st_ino;
+    file = *made;
     acceptor.listen(boost::asio::socket_base::max_listen_connections, ec);
   }
   if (!made || ec) {
@@ -297,10 +230,7 @@ void ControlServer::State::stop() {
   }
   open.clear();
   // Only our own socket file: if another server replaced it meanwhile, leave theirs alone.
-  struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0 && st.st_dev == device && st.st_ino == inode) {
-    ::unlink(path.c_str());
-  }
+  remove_if_same(path, file);
   report_closed();
 }
 
@@ -416,7 +346,8 @@ void ControlServer::State::Session::consume(std::string_view bytes, State& state
     if ((last == '\r' ? length - 1 : length) > state.max_line) {
       line_.clear();
       discarding_ = !complete;
-      std::string reply = call_safely([&] { return state.oversize(state.max_line); });
+      std::string reply =
+          call_safely(state.replies, [&] { return state.replies.oversize(state.max_line); });
       if (!reply.empty()) {
         send(std::move(reply));
       }
@@ -437,15 +368,15 @@ void ControlServer::State::Session::consume(std::string_view bytes, State& state
 }
 
 void ControlServer::State::Session::answer(std::string_view line, State& state) {
-  std::string reply = call_safely([&] { return state.handler(line, *this); });
+  std::string reply = call_safely(state.replies, [&] { return state.handler(line, *this); });
   if (!reply.empty()) {
     send(std::move(reply));
   }
 }
 
 ControlServer::ControlServer(boost::asio::io_context& io, std::filesystem::path path,
-                             Handler handler, Oversize oversize, std::size_t max_line)
-    : state_(std::make_shared<State>(io, std::move(path), std::move(handler), std::move(oversize),
+                             Handler handler, Replies replies, std::size_t max_line)
+    : state_(std::make_shared<State>(io, std::move(path), std::move(handler), std::move(replies),
                                      max_line)) {
   state_->accept();
 }

@@ -27,8 +27,8 @@ class ControlSession {
 /// Serves newline-delimited requests on a Unix-domain stream socket created with mode 0600.
 /// Many clients at once; each line is handed to the handler and its return value (a reply line,
 /// without newline) is written back in order. A line longer than max_line bytes gets the
-/// `oversize` reply and is discarded up to its newline; the connection stays up. Clients that
-/// disconnect (also mid-line) are forgotten without affecting others.
+/// Replies::oversize reply and is discarded up to its newline; the connection stays up. Clients
+/// that disconnect (also mid-line) are forgotten without affecting others.
 ///
 /// Lines end with "\n"; a "\r" before it is dropped (and not counted against max_line). Empty
 /// lines get no reply, and neither does a line whose handler returns an empty string.
@@ -36,10 +36,16 @@ class ControlSession {
 class ControlServer {
  public:
   /// Answers one request line (without its line end). Documented not to throw; if it does
-  /// anyway, the client gets {"id":null,"ok":false,"error":"internal error: <what>"}.
+  /// anyway, the client gets the Replies::internal_error reply.
   using Handler = std::function<std::string(std::string_view line, ControlSession& session)>;
-  /// The reply to a line longer than `limit` bytes.
-  using Oversize = std::function<std::string(std::size_t limit)>;
+  /// The replies the server makes itself, for lines that no handler answered (the server knows
+  /// nothing of what a reply looks like).
+  struct Replies {
+    /// To a line longer than `limit` bytes, which is discarded.
+    std::function<std::string(std::size_t limit)> oversize;
+    /// To a line whose handler threw `what`.
+    std::function<std::string(std::string_view what)> internal_error;
+  };
 
   /// The default limit on the length of one request line, in bytes.
   static constexpr std::size_t kDefaultMaxLine = std::size_t{64} * 1024;
@@ -54,7 +60,7 @@ class ControlServer {
   /// any other existing file, or a live socket, is an error: throws std::system_error naming
   /// the path), listens, and starts accepting on `io`.
   ControlServer(boost::asio::io_context& io, std::filesystem::path path, Handler handler,
-                Oversize oversize, std::size_t max_line = kDefaultMaxLine);
+                Replies replies, std::size_t max_line = kDefaultMaxLine);
   /// Stops accepting, closes every session (calling on_close for each), and unlinks the path if
   /// it is still the socket this server created.
   ~ControlServer();

@@ -15,6 +15,14 @@ std::string describe_item(const ItemSpec& item) {
   return item.key + " (" + std::to_string(item.address) + ")";
 }
 
+// Device-side writes may bypass every rule but the item's size.
+void require_fits(const ItemSpec& item, std::int64_t value) {
+  if (!ControlTable::fits(item, value)) {
+    throw std::invalid_argument(std::to_string(value) + " does not fit " + describe_item(item) +
+                                " (" + std::to_string(item.size) + " bytes)");
+  }
+}
+
 }  // namespace
 
 ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
@@ -260,6 +268,9 @@ TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::
     const ItemSpec& item = spec_->items[t.item];
     old_values.push_back(get(t.item));
     std::copy(t.bytes.begin(), t.bytes.end(), image_.begin() + item.address);
+    if (item.area == Area::Eeprom && get(t.item) != old_values.back()) {
+      ++eeprom_changes_;
+    }
   }
   for (std::size_t i = 0; i < touched.size(); ++i) {
     const std::size_t item = touched[i].item;
@@ -334,13 +345,9 @@ std::int64_t ControlTable::get(std::string_view key) const {
 
 void ControlTable::set(std::size_t item, std::int64_t value) {
   const ItemSpec& spec = spec_->items.at(item);
-  const int bits = 8 * spec.size;
-  const std::int64_t lo = spec.is_signed ? -(std::int64_t{1} << (bits - 1)) : 0;
-  const std::int64_t hi =
-      spec.is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
-  if (value < lo || value > hi) {
-    throw std::invalid_argument(std::to_string(value) + " does not fit " + describe_item(spec) +
-                                " (" + std::to_string(spec.size) + " bytes)");
+  require_fits(spec, value);
+  if (spec.area == Area::Eeprom && get(item) != value) {
+    ++eeprom_changes_;
   }
   encode(spec, value, std::span(image_).subspan(spec.address, spec.size));
 }
@@ -352,6 +359,10 @@ void ControlTable::set(std::string_view key, std::int64_t value) {
 void ControlTable::copy_from(std::size_t item, std::span<const std::uint8_t> image) {
   const ItemSpec& spec = spec_->items.at(item);
   const auto from = image.subspan(spec.address, spec.size);
+  if (spec.area == Area::Eeprom &&
+      !std::equal(from.begin(), from.end(), image_.begin() + spec.address)) {
+    ++eeprom_changes_;
+  }
   std::copy(from.begin(), from.end(), image_.begin() + spec.address);
 }
 
@@ -377,6 +388,36 @@ void ControlTable::add_validator(std::string_view key, Validator validator) {
 
 void ControlTable::set_range_rule(std::string_view key, RangeRule rule) {
   range_rules_[index(key)] = std::move(rule);
+}
+
+std::uint64_t ControlTable::raw_value(std::size_t address, std::size_t size) const {
+  constexpr std::size_t kMaxBytes = sizeof(std::uint64_t);
+  if (size < 1 || size > kMaxBytes || address > image_.size() || size > image_.size() - address) {
+    throw std::out_of_range("address " + std::to_string(address) + " size " + std::to_string(size) +
+                            " is not 1 ~ 8 bytes within the " + std::to_string(image_.size()) +
+                            "-byte table of " + spec_->name);
+  }
+  std::uint64_t value = 0;
+  for (std::size_t i = size; i-- > 0;) {
+    value = (value << 8) | image_[address + i];  // little-endian, as on the wire
+  }
+  return value;
+}
+
+std::vector<std::uint8_t> ControlTable::encoded(std::size_t item, std::int64_t value) const {
+  const ItemSpec& spec = spec_->items.at(item);
+  require_fits(spec, value);
+  std::vector<std::uint8_t> bytes(spec.size);
+  encode(spec, value, bytes);
+  return bytes;
+}
+
+bool ControlTable::fits(const ItemSpec& item, std::int64_t value) {
+  const int bits = 8 * item.size;
+  const std::int64_t lo = item.is_signed ? -(std::int64_t{1} << (bits - 1)) : 0;
+  const std::int64_t hi =
+      item.is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
+  return value >= lo && value <= hi;
 }
 
 }  // namespace dxlemu::model

@@ -101,6 +101,22 @@ class ControlTable {
   /// True while EEPROM items refuse bus writes.
   bool eeprom_locked() const;
 
+  /// Device side: the `size` bytes from `address` as one little-endian unsigned number (as on
+  /// the wire), straight from the image: no access rules, read hooks or Indirect Data mapping.
+  /// Throws std::out_of_range when they are not all inside the table or `size` is not 1 ~ 8.
+  std::uint64_t raw_value(std::size_t address, std::size_t size) const;
+
+  /// The item's bytes holding `value`, as a bus Write of that item would carry them. Throws
+  /// std::invalid_argument, as set() does, if the value does not fit the item's size.
+  std::vector<std::uint8_t> encoded(std::size_t item, std::int64_t value) const;
+
+  /// True when `value` fits `item`'s size and signedness: what set() and encoded() accept.
+  static bool fits(const ItemSpec& item, std::int64_t value);
+
+  /// How many times an EEPROM byte has changed since the table was made (by a bus write, a
+  /// device-side set or a copy): equal counts mean an unchanged EEPROM, without comparing it.
+  std::uint64_t eeprom_changes() const { return eeprom_changes_; }
+
  private:
   struct Touched {
     std::size_t item;
@@ -129,6 +145,7 @@ class ControlTable {
   EepromLock eeprom_lock_;
   std::optional<std::size_t> torque_enable_;
   std::optional<std::size_t> lock_;
+  std::uint64_t eeprom_changes_ = 0;
 };
 
 }  // namespace dxlemu::model

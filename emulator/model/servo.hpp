@@ -129,6 +129,19 @@ class Servo {
   /// True when the last Control Table Backup store succeeded and has not been lost.
   bool has_backup() const { return backup_.has_value(); }
 
+  /// Device side (the control API's set): puts `value` into item `item_index` as if the device
+  /// itself had changed it. A value a Write instruction could store there goes in as that Write
+  /// (its hooks run: a goal starts a move, Torque Enable holds the shaft where it is); anything
+  /// else (read-only items, EEPROM while locked, values out of range, Indirect Data) is forced
+  /// into the image, which no hook hears. The motion model then follows the new value, and a
+  /// deferred item (defers()) takes effect at once. Throws std::invalid_argument if the value
+  /// does not fit the item's size, std::out_of_range for an unknown item.
+  void device_write(std::size_t item_index, std::int64_t value);
+
+  /// True for the items whose new value applies only at commit_deferred(): ID, Baud Rate,
+  /// Return Delay Time and Protocol Type (Protocol Version on MX(2.0)).
+  bool defers(std::size_t item_index) const;
+
  private:
   std::uint8_t error_byte(TableError error) const;
   std::uint8_t error_byte_v2(wire::StatusError error) const;

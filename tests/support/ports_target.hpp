@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/bus_port_view.hpp"
 #include "bus/bus.hpp"
 #include "bus/loopback_link.hpp"
 #include "control/target.hpp"
@@ -24,11 +25,13 @@ namespace dxlemu::test {
 /// outside the API (trace subscriptions, warnings, shutdown) is recorded for the tests to check.
 class PortsTarget : public control::Target {
  public:
-  /// One port: its bus, and a link that records what the bus sends.
+  /// One port: its bus, a link that records what the bus sends, and the bus as the control API
+  /// sees it (the daemon's own view).
   struct Port {
     std::string name;
     bus::LoopbackLink link;
     bus::Bus bus;
+    app::BusPortView view{bus};
     Port(std::string port_name, sim::Scheduler& scheduler)
         : name(std::move(port_name)), bus(scheduler, link) {}
   };
@@ -59,10 +62,10 @@ class PortsTarget : public control::Target {
     }
     return names;
   }
-  bus::Bus* bus(std::string_view name) override {
+  control::PortView* port(std::string_view name) override {
     for (auto& port : ports) {
       if (port.name == name) {
-        return &port.bus;
+        return &port.view;
       }
     }
     return nullptr;

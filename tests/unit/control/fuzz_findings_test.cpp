@@ -16,7 +16,7 @@ namespace {
 class EmptyTarget : public control::Target {
  public:
   std::vector<std::string> port_names() const override { return {}; }
-  bus::Bus* bus(std::string_view /*port*/) override { return nullptr; }
+  control::PortView* port(std::string_view /*name*/) override { return nullptr; }
   json port_info(std::string_view /*port*/) const override { return json::object(); }
   sim::SimTime now() const override { return {}; }
   bool manual_clock() const override { return true; }

@@ -1,0 +1,164 @@
+#include "app/command_line.hpp"
+
+#include <map>
+
+#include "dxlemu/version.hpp"
+
+namespace dxlemu::app {
+namespace {
+
+// How long `dxlemu ctl` waits for a reply by default: long enough for a clock.step of an hour.
+constexpr double kDefaultCtlTimeoutS = 60;
+
+constexpr const char* kDefaultLink = "/tmp/dxlemu-dxl0";
+
+// --tick-hz: 1 kHz by default (docs/motion.md); 10 Hz ~ 10 kHz accepted.
+constexpr int kDefaultTickHz = 1000;
+constexpr int kMinTickHz = 10;
+constexpr int kMaxTickHz = 10000;
+
+const std::map<std::string, TimingMode> kTimingModes = {
+    {"realtime", TimingMode::Realtime}, {"fast", TimingMode::Fast}, {"manual", TimingMode::Manual}};
+
+CLI::App* add_models(CLI::App& app, CommandLine& line) {
+  auto* models =
+      app.add_subcommand("models", "List the model library: name, model number, protocols");
+  models
+      ->add_option("--models", line.model_dirs,
+                   "Also load every *.json model file of DIR (repeatable); a file replaces the "
+                   "shipped model of the same name")
+      ->check(CLI::ExistingDirectory);
+  return models;
+}
+
+CLI::App* add_check(CLI::App& app, CommandLine& line) {
+  auto* check = app.add_subcommand("check", "Validate a bus config file and print its ports");
+  check->add_option("FILE", line.check_file, "The config file (docs/config.md)")
+      ->required()
+      ->type_name("FILE");
+  check
+      ->add_option("--models", line.model_dirs,
+                   "Also load every *.json model file of DIR (repeatable)")
+      ->check(CLI::ExistingDirectory);
+  return check;
+}
+
+// run's options that say which servos there are and how they speak.
+void add_bus_options(CLI::App& run, CommandLine& line) {
+  line.link = kDefaultLink;
+  auto* config_option =
+      run.add_option("--config", line.config_file,
+                     "Serve the ports and servos of this config file (docs/config.md)")
+          ->type_name("FILE");
+  auto* servo_option =
+      run.add_option(
+             "--servo", line.servo_options,
+             "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); default " +
+                 std::string(kDefaultServos))
+          ->type_name("NAME:ID");
+  auto* link_option =
+      run.add_option("--link", line.link, "Stable symlink to port dxl0's PTY, removed on exit")
+          ->type_name("PATH")
+          ->capture_default_str();
+  servo_option->excludes(config_option);
+  link_option->excludes(config_option);
+  run.add_option("--models", line.model_dirs,
+                 "Also load every *.json model file of DIR (repeatable)")
+      ->check(CLI::ExistingDirectory);
+  run.add_option("--baud", line.baud,
+                 "Set every servo's Baud Rate to BPS (an error if a model cannot do it); "
+                 "default: each model's factory rate or the config's")
+      ->type_name("BPS");
+  run.add_option("--protocol", line.protocol,
+                 "Set Protocol Type to 1 or 2 on the models that have it; default: factory")
+      ->check(CLI::IsMember({1, 2}));
+}
+
+// run's options that say how the daemon runs: time, files, the control socket, faults.
+void add_daemon_options(CLI::App& run, CommandLine& line) {
+  RunOptions& options = line.options;
+  line.timing = "realtime";
+  run.add_option("--timing", line.timing,
+                 "realtime: replies at the modelled time; fast: replies at once; manual: "
+                 "simulated time stands still, replies at once (docs/timing.md)")
+      ->check(CLI::IsMember({"realtime", "fast", "manual"}))
+      ->capture_default_str();
+  run.add_option("--state", options.state,
+                 "Keep every servo's EEPROM in FILE across restarts (written atomically)")
+      ->type_name("FILE");
+  run.add_option("--control", options.control,
+                 "The control API's Unix socket (docs/control-api.md); default: "
+                 "$XDG_RUNTIME_DIR or /tmp, dxlemu-PID.sock")
+      ->type_name("PATH");
+  run.add_option("--trace", options.trace,
+                 "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
+      ->type_name("FILE");
+  run.add_option("--pcap", options.pcap,
+                 "Write every packet both ways to FILE as a pcap capture for Wireshark with "
+                 "scripts/dxlemu.lua (docs/pcap.md)")
+      ->type_name("FILE");
+  run.add_option("--scenario", options.scenario,
+                 "Run the timeline of faults and conditions in FILE (docs/faults.md)");
+  run.add_option("--pty-handover-us", line.handover_us,
+                 "Realtime timing: the PTY's hand-over delay to take off reply times, in us "
+                 "(default: measured at start; 0: none; docs/timing.md)")
+      ->check(CLI::Range(0, 10000));
+  run.add_option("--seed", options.seed,
+                 "Seeds the random choices of fault injection (docs/faults.md); default 1");
+  line.tick_hz = kDefaultTickHz;
+  run.add_option("--tick-hz", line.tick_hz,
+                 "Motion model ticks per second of simulated time (docs/motion.md)")
+      ->check(CLI::Range(kMinTickHz, kMaxTickHz))
+      ->capture_default_str();
+  line.log_level = "info";
+  run.add_option("--log-level", line.log_level, "Messages on stderr: error, warn, info or debug")
+      ->check(CLI::IsMember({"error", "warn", "info", "debug"}))
+      ->capture_default_str();
+}
+
+CLI::App* add_ctl(CLI::App& app, CommandLine& line) {
+  CtlArguments& ctl_arguments = line.ctl;
+  auto* ctl = app.add_subcommand(
+      "ctl", "Send one request to a running emulator's control API and print the result as JSON");
+  ctl->add_option("--control", ctl_arguments.control,
+                  "The daemon's control socket; default: $DXLEMU_CONTROL, else the only live "
+                  "dxlemu-*.sock in $XDG_RUNTIME_DIR or /tmp")
+      ->type_name("PATH");
+  ctl_arguments.timeout_s = kDefaultCtlTimeoutS;
+  ctl->add_option("--timeout", ctl_arguments.timeout_s, "Seconds to wait for the reply")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  ctl->add_option("COMMAND", ctl_arguments.command,
+                  "A control API command: list, get, set, clock.step, stats, help... "
+                  "(docs/control-api.md)")
+      ->required();
+  ctl->add_option("ARG", ctl_arguments.args,
+                  "key=value (value read as JSON when it parses, else a string), or a JSON object "
+                  "whose members are added, e.g. servo=1 item=goal_position value=2048");
+  ctl->footer(
+      "Exit status: 0 done (the result is printed), 1 refused (the error is printed), "
+      "2 bad arguments or no daemon to talk to.");
+  return ctl;
+}
+
+}  // namespace
+
+TimingMode timing_mode(const std::string& name) {
+  return kTimingModes.at(name);
+}
+
+Subcommands define_command_line(CLI::App& app, CommandLine& line) {
+  app.set_version_flag("--version", std::string("dxlemu ") + kVersion);
+  app.require_subcommand(0, 1);
+  app.footer("Documentation: README.md and docs/ (config format: docs/config.md)");
+  Subcommands subcommands;
+  subcommands.models = add_models(app, line);
+  subcommands.check = add_check(app, line);
+  subcommands.run = app.add_subcommand("run", "Serve buses of virtual servos on pseudo-terminals");
+  add_bus_options(*subcommands.run, line);
+  add_daemon_options(*subcommands.run, line);
+  subcommands.ctl = add_ctl(app, line);
+  return subcommands;
+}
+
+}  // namespace dxlemu::app

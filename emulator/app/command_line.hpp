@@ -1,0 +1,62 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/emulator.hpp"
+
+namespace dxlemu::app {
+
+/// `dxlemu ctl`'s arguments (docs/control-api.md "From a shell: dxlemu ctl").
+struct CtlArguments {
+  std::optional<std::filesystem::path> control;
+  std::string command;
+  std::vector<std::string> args;
+  double timeout_s = 0;
+};
+
+/// Everything the command line can say, as parsed: the defaults until then.
+struct CommandLine {
+  /// --models of every subcommand.
+  std::vector<std::string> model_dirs;
+  /// check FILE.
+  std::string check_file;
+  // run: the bus.
+  std::vector<std::string> servo_options;  ///< --servo, before parse_servo_option
+  std::string link;                        ///< --link
+  std::string config_file;                 ///< --config; empty: --servo and --link
+  std::optional<std::uint32_t> baud;       ///< --baud
+  std::optional<int> protocol;             ///< --protocol
+  // run: the daemon.
+  RunOptions options;  ///< what --state, --control, --trace, --pcap, --scenario, --seed set
+  std::string timing;  ///< --timing, before kTimingModes
+  std::optional<std::int64_t> handover_us;  ///< --pty-handover-us
+  int tick_hz = 0;                          ///< --tick-hz
+  std::string log_level;                    ///< --log-level
+  CtlArguments ctl;
+};
+
+/// The subcommands, to ask which one was given.
+struct Subcommands {
+  CLI::App* models = nullptr;
+  CLI::App* check = nullptr;
+  CLI::App* run = nullptr;
+  CLI::App* ctl = nullptr;
+};
+
+/// The servos `dxlemu run` serves without --servo or --config (README): three XM430-W350 at
+/// factory settings, IDs 1 to 3, on dxl0.
+inline constexpr const char* kDefaultServos = "xm430-w350:1-3";
+
+/// The --timing names (docs/timing.md).
+TimingMode timing_mode(const std::string& name);
+
+/// Defines dxlemu's options and subcommands on `app`, each parsed into `line` (which must
+/// outlive `app`); sets `line`'s defaults. The order here is the order of --help.
+Subcommands define_command_line(CLI::App& app, CommandLine& line);
+
+}  // namespace dxlemu::app

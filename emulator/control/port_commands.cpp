@@ -1,0 +1,143 @@
+#include "control/port_commands.hpp"
+
+#include <array>
+#include <string_view>
+#include <utility>
+
+#include "model/servo.hpp"
+
+namespace dxlemu::control {
+namespace {
+
+/// The key state of a servo that `list` shows, each only when the model has the item.
+struct SummaryItem {
+  std::string_view field;
+  std::string_view item;
+  bool boolean;
+};
+constexpr std::array<SummaryItem, 5> kSummaryItems = {{
+    {"torque", "torque_enable", true},
+    {"present_position", "present_position", false},
+    {"present_temperature", "present_temperature", false},
+    {"hardware_error_status", "hardware_error_status", false},
+    {"moving", "moving", true},
+}};
+
+ordered_json servo_summary(const model::Servo& servo) {
+  const auto protocol = servo.protocol();
+  ordered_json out = {
+      {"id", servo.id()},
+      {"model", servo.spec().name},
+      {"protocol", protocol ? ordered_json(static_cast<int>(*protocol)) : ordered_json(nullptr)},
+      {"baud", servo.baud_bps()},
+  };
+  for (const SummaryItem& summary : kSummaryItems) {
+    if (const auto index = servo.spec().index_of(summary.item)) {
+      const std::int64_t value = servo.table().get(*index);
+      if (summary.boolean) {
+        out[std::string(summary.field)] = value != 0;
+      } else {
+        out[std::string(summary.field)] = value;
+      }
+    }
+  }
+  return out;
+}
+
+ordered_json stats_json(const bus::BusStats& s) {
+  return {{"bytes_in", s.bytes_in},           {"frames", s.frames},
+          {"garbage_bytes", s.garbage_bytes}, {"bad_checks", s.bad_checks},
+          {"truncated", s.truncated},         {"impossible_lengths", s.impossible_lengths},
+          {"decode_errors", s.decode_errors}, {"replies", s.replies},
+          {"unread_drops", s.unread_drops},   {"collisions", s.collisions},
+          {"id_conflicts", s.id_conflicts},   {"faults_injected", s.faults_injected}};
+}
+
+/// The port and servo a request addresses, for commands that act on the bus side of a servo.
+struct Plugged {
+  Port port;
+  model::Servo& servo;
+};
+
+Plugged plugged(Target& target, const Args& args) {
+  Port port = port_of(target, args);
+  const std::int64_t id = args.required_integer("servo");
+  port.view.catch_up();
+  return {port, servo_on(port, id)};
+}
+
+ordered_json attached_json(const Plugged& p) {
+  return {{"attached", p.port.view.attached(p.servo)}, {"booting", p.port.view.booting(p.servo)}};
+}
+
+}  // namespace
+
+ordered_json list(Target& target, const Args& /*args*/) {
+  ordered_json ports = ordered_json::array();
+  for (const auto& name : target.port_names()) {
+    PortView* view = target.port(name);
+    if (view == nullptr) {
+      continue;
+    }
+    view->catch_up();
+    ordered_json port = {{"name", name}};
+    const nlohmann::json info = target.port_info(name);
+    if (info.is_object()) {
+      for (const auto& [key, value] : info.items()) {
+        if (key != "name" && key != "servos") {
+          port[key] = value;
+        }
+      }
+    }
+    ordered_json servos = ordered_json::array();
+    for (const model::Servo* servo : view->servos()) {
+      servos.push_back(servo_summary(*servo));
+      servos.back()["attached"] = view->attached(*servo);
+    }
+    port["servos"] = std::move(servos);
+    ports.push_back(std::move(port));
+  }
+  return {{"ports", std::move(ports)}};
+}
+
+ordered_json stats(Target& target, const Args& args) {
+  ordered_json out = ordered_json::object();
+  if (args.has("port")) {
+    const Port port = port_of(target, args);
+    out[port.name] = stats_json(port.view.stats());
+    return out;
+  }
+  for (const auto& name : target.port_names()) {
+    if (const PortView* view = target.port(name)) {
+      out[name] = stats_json(view->stats());
+    }
+  }
+  return out;
+}
+
+ordered_json servo_detach(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  if (!p.port.view.attached(p.servo)) {
+    refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name + " is already detached");
+  }
+  p.port.view.detach(p.servo);
+  return attached_json(p);
+}
+
+ordered_json servo_attach(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  if (p.port.view.attached(p.servo)) {
+    refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name +
+           " is attached (servo.power_cycle restarts it)");
+  }
+  p.port.view.power_on(p.servo);
+  return attached_json(p);
+}
+
+ordered_json servo_power_cycle(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  p.port.view.power_on(p.servo);
+  return attached_json(p);
+}
+
+}  // namespace dxlemu::control

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <vector>
+
+#include "bus/bus_stats.hpp"
+#include "model/servo.hpp"
+
+namespace dxlemu::control {
+
+/// One port as the control commands see it: its servos, the bus-side state of each (plugged in,
+/// booting) and what a hand on the cable does to it, and the port's counters. The commands read
+/// and change a servo itself through model::Servo; everything about the line goes through here.
+/// Target::port() hands it out; app::BusPortView implements it on a bus::Bus.
+class PortView {
+ public:
+  virtual ~PortView() = default;
+
+  /// The servos on the port, in the order the port was configured. The port owns them.
+  virtual std::vector<model::Servo*> servos() const = 0;
+  /// Brings every servo's motion up to the scheduler's time (before reading or changing a
+  /// servo from outside the bus).
+  virtual void catch_up() = 0;
+
+  /// False while `servo` is unplugged (servo.detach).
+  virtual bool attached(const model::Servo& servo) const = 0;
+  /// True while `servo` is booting after a reboot or power-on (silent on the line).
+  virtual bool booting(const model::Servo& servo) const = 0;
+  /// Unplugs `servo`: it hears and answers nothing and gives no torque until power_on().
+  virtual void detach(model::Servo& servo) = 0;
+  /// Plugs `servo` in, or power-cycles it if it is plugged in; it then boots.
+  virtual void power_on(model::Servo& servo) = 0;
+
+  /// The port's counters since it was made.
+  virtual bus::BusStats stats() const = 0;
+};
+
+}  // namespace dxlemu::control
