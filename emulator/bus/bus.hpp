@@ -99,7 +99,7 @@ class Bus {
   struct Outgoing;
   /// A servo that hears the packet being handled, and how (the fault hooks' answer).
   struct Listener {
-    Station* station;
+    Station* station = nullptr;
     faults::Hearing hearing;
   };
   /// The packet being handled: what was heard, when it ended on the line, and which servos hear
@@ -109,7 +109,7 @@ class Bus {
     std::vector<Listener> listening;
   };
   struct Reply {
-    Station* station;
+    Station* station = nullptr;
     model::ServoResponse response;
     std::vector<std::uint8_t> bytes;
     sim::SimDuration slow{0};  // injected extra processing time

@@ -50,8 +50,7 @@ InstructionEffects PortFaults::instruction(const HeardPacket& packet,
   if (injector_ == nullptr) {
     return {};
   }
-  const InstructionEffects effects =
-      injector_->instruction(facts(packet, std::move(ids), packet.end));
+  InstructionEffects effects = injector_->instruction(facts(packet, std::move(ids), packet.end));
   count(effects.any());
   return effects;
 }
