@@ -39,7 +39,7 @@ done
 
 # RelWithDebInfo (-O2), the project's default build type, so that the figures stay comparable
 # with the earlier runs on this page.
-build=build/bench
+build=build/benchmarks  # not build/bench: that is the bench/ folder of the build/ tree
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "$jobs" --target dxlemu reply_latency throughput pty_echo scale
 
