@@ -6,8 +6,14 @@
 
 #include "wire/frame.hpp"
 #include "wire/framer.hpp"
+#include "wire/instruction_encoder.hpp"
 
 namespace dxlemu::test {
+
+/// A Ping instruction packet to `id` in `protocol`: the shortest valid packet, for framing tests.
+inline std::vector<std::uint8_t> ping_packet(wire::Protocol protocol, std::uint8_t id) {
+  return wire::encode_instruction({protocol, id, wire::Ping{}});
+}
 
 /// The frames among framer events, in order.
 inline std::vector<wire::Frame> frames_of(const std::vector<wire::FramerEvent>& events) {

@@ -21,7 +21,7 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 
 Bytes ping(Protocol protocol, std::uint8_t id) {
-  return wire::encode_instruction({protocol, id, wire::Ping{}});
+  return test::ping_packet(protocol, id);
 }
 
 Bytes read(Protocol protocol, std::uint8_t id) {
