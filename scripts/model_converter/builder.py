@@ -28,7 +28,7 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
         raise ValueError(f"{d.name}: model number {model_number} != models.tsv {d.tsv['model_number']}")
     d.notes.insert(0, fw_note)
     rates, default_baud = baud_rates(d)
-    figures, timing_note = TIMING[d.family]
+    figures, timing_note = d.lookup(TIMING)
     d.notes += [timing_note, BOOT_NOTE, RETURN_DELAY_NOTE]
     dual = DUAL_AXIS.get(d.name)
     if dual:
@@ -55,15 +55,15 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
 
 def baud_rates(d: Draft) -> tuple[list[dict], int]:
     """The baud table (the page's Baud Rate section, else EXTERNAL_BAUD) and the default index."""
-    if d.family in EXTERNAL_BAUD:
-        table, url = EXTERNAL_BAUD[d.family]
+    if d.is_in(EXTERNAL_BAUD):
+        table, url = d.lookup(EXTERNAL_BAUD)
         d.notes.append(f"baud_rates: the page's Baud Rate include is not in the reference; the table is "
                        f"from {url} (nominal rates)")
         rates = table
     else:
         rates = parse_baud_tables(d)
     default = d.by_key["baud_rate"].initial
-    if d.family in BAUD_FORMULA_FAMILIES:
+    if d.is_in(BAUD_FORMULA_FAMILIES):
         d.notes.append(BAUD_FORMULA_NOTE)
     return [{"index": i, "bps": b} for i, b in sorted(rates)], default
 

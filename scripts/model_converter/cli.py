@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 
 from .builder import build_model
-from .decisions.catalogue import CONVERTED_PAGES, classify
+from .decisions.catalogue import CONVERTED_PAGES, classify, lineage
 from .decisions.item_rules import RANGE_DONORS
 from .page import read_page
 from .reference import Reference
@@ -38,7 +38,7 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
             raise SystemExit(f"convert_models: {name}: {exc}")
     files, catalog, summary = {}, [], []
     for name, page in pages.items():
-        rule = RANGE_DONORS.get(page.family)
+        rule = next((RANGE_DONORS[k] for k in lineage(page.family, page.group) if k in RANGE_DONORS), None)
         donors = {donor: pages[donor] for donor in rule.pages} if rule else {}
         try:
             model = build_model(ref, page, donors)

@@ -70,17 +70,17 @@ def signedness(d: Draft):
             item.signed = True
         if item.limit_min and item.limit_min.startswith("-"):
             item.signed = True
-        if d.family in SIGNED_READBACK_FAMILIES and item.key in SIGNED_READBACK and not item.signed:
+        if d.is_in(SIGNED_READBACK_FAMILIES) and item.key in SIGNED_READBACK and not item.signed:
             item.signed = True
             item.notes.append("signed: the page prints no range, but the device reports this value in "
                               "two's complement (negative for reverse direction / below zero)")
-        if (item.key == "goal_position" and d.family in P2_FAMILIES and not item.signed
+        if (item.key == "goal_position" and d.is_in(P2_FAMILIES) and not item.signed
                 and page_has_extended_mode(d)):
             item.signed = True
             item.notes.append("signed: Extended Position Control Mode (Operating Mode 4) takes goals of "
                               "-256 ~ 256 rev in two's complement (opmode include); the range rule of the "
                               "motion model widens the static range in that mode")
-        if item.key == "bus_watchdog" and d.family in BUS_WATCHDOG_FAMILIES:
+        if item.key == "bus_watchdog" and d.is_in(BUS_WATCHDOG_FAMILIES):
             item.signed = True
             printed = f"{item.min} ~ {item.max}"
             why = ""
@@ -90,7 +90,7 @@ def signedness(d: Draft):
                        f"watchdog error) is accepted too, per the Bus Watchdog include's Values table; ")
             item.notes.append(f"{why}signed: the device itself sets -1 (0xFF) on a watchdog timeout (Bus "
                               f"Watchdog include), so the item is signed; writes accept {item.min} ~ {item.max}")
-    d.notes += [note for families, note in SIGNED_MODEL_NOTES if d.family in families]
+    d.notes += [note for families, note in SIGNED_MODEL_NOTES if d.is_in(families)]
 
 
 def operating_modes(d: Draft):
@@ -141,8 +141,8 @@ def protocol_type_values(d: Draft):
 
 def baud_rate_values(d: Draft):
     """Baud Rate values where the table's range names indices without a rate (BAUD_RATE_VALUES)."""
-    if d.family in BAUD_RATE_VALUES:
-        values, note = BAUD_RATE_VALUES[d.family]
+    if d.is_in(BAUD_RATE_VALUES):
+        values, note = d.lookup(BAUD_RATE_VALUES)
         item = d.by_key["baud_rate"]
         item.values = list(values)
         item.notes.append(note)
@@ -180,7 +180,7 @@ def supply_voltage(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
 # fields) or None when the model lacks what the value is computed from.
 INITIAL_COMPUTATIONS = {
     "firmware_version": lambda d, item, fw: (fw, {}),
-    "mid_position": lambda d, item, fw: (MID_POSITION[d.family], {}),
+    "mid_position": lambda d, item, fw: (d.lookup(MID_POSITION), {}),
     "supply_voltage": supply_voltage,
     "range_top": lambda d, item, fw: (item.static_range()[1], {}),
 }
@@ -204,10 +204,10 @@ def apply_initial_rule(d: Draft, item: Item, rule: InitialRule, what: str, fw: i
 
 def angle_limit_note(d: Draft):
     """AX/RX/EX/MX 1.0 and XL-320: CW/CCW Angle Limit bound Goal Position only in joint mode."""
-    if d.family not in ANGLE_LIMIT_FAMILIES:
+    if not d.is_in(ANGLE_LIMIT_FAMILIES):
         return
     item = d.by_key["goal_position"]
-    multi = ANGLE_LIMIT_FAMILIES[d.family]
+    multi = d.lookup(ANGLE_LIMIT_FAMILIES)
     item.notes.append("limits: CW/CCW Angle Limit(6, 8) bound Goal Position in joint mode only, and a goal "
                       "outside them raises the Angle Limit Error bit rather than a range error; they do not "
                       f"apply in wheel mode (both 0){multi}. limit_min/limit_max cannot express a "

@@ -37,7 +37,7 @@ def section_ranges(d: Draft, item: Item) -> list[RangeSpec]:
 
 def choice_for(d: Draft, key: str) -> RangeChoice | None:
     """The documented choice for `key` in this family; its evidence must be where it says."""
-    choice = find_choice(RANGE_CHOICES, d.family, key)
+    choice = find_choice(RANGE_CHOICES, d.lineage, key)
     if choice is not None and not evidence_found(choice, d.page.text, d.ref.text):
         raise SystemExit(f"convert_models: {d.name}.{key}: evidence {choice.quotes!r} "
                          f"not found in {choice.evidence}")
@@ -154,13 +154,13 @@ def fill_unprinted_ranges(d: Draft):
             item.notes.append(text)
             continue
         # 3. the same item on a donor page (MX(2.0): the X pages)
-        if d.family in RANGE_DONORS:
+        if d.is_in(RANGE_DONORS):
             donor = donor_range(d, item.row)
             if donor:
                 dname, cell, _ = donor
                 apply_spec(d, item, parse_range(cell), f"the {dname} table")
                 item.range_from = "donor"
-                label = RANGE_DONORS[d.family].label
+                label = d.lookup(RANGE_DONORS).label
                 item.notes.append(f"range: the {label} page has no Range column; '{clean_cell(cell)}' is taken "
                                   f"from the same item in control-tables/{dname}.md, whose description uses the "
                                   f"same shared include block")
@@ -212,7 +212,7 @@ def widen_to_factory(d: Draft):
 
 def limit_max_overrides(d: Draft):
     """Bounds the tables do not print (LIMIT_MAX_OVERRIDES): the static max is the lower one."""
-    for key, bound, note in LIMIT_MAX_OVERRIDES.get(d.family, ()):
+    for key, bound, note in d.lookup(LIMIT_MAX_OVERRIDES, ()):
         item, lim = d.by_key[key], d.by_key[bound]
         item.limit_max = bound
         item.notes.append(note)

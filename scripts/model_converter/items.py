@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .decisions.catalogue import variant_of
+from .decisions.catalogue import lineage, variant_of
 from .page import Page, Row
 from .ranges import full_width
 from .reference import Reference
@@ -84,9 +84,24 @@ class Draft:
         """The family, or the product line within it where that decides something (X330)."""
         return variant_of(self.family, self.page.group)
 
-    def lookup(self, table: dict):
-        """The entry of a per-variant decision table, falling back to the family's."""
-        return table[self.variant] if self.variant in table else table[self.family]
+    @property
+    def lineage(self) -> tuple[str, ...]:
+        """Variant, family and parent families: the keys decisions are looked up by, in order."""
+        return lineage(self.family, self.page.group)
+
+    def lookup(self, table: dict, default=KeyError):
+        """The entry of a per-variant decision table for the first key of the lineage it has;
+        `default` where it has none (KeyError raises)."""
+        for key in self.lineage:
+            if key in table:
+                return table[key]
+        if default is KeyError:
+            raise KeyError(f"{self.name}: no decision for any of {', '.join(self.lineage)}")
+        return default
+
+    def is_in(self, families) -> bool:
+        """True when a set (or table) of families names the variant, the family or a parent."""
+        return any(key in families for key in self.lineage)
 
     def add(self, item: Item) -> None:
         """Appends `item` and indexes it by key and address."""

@@ -14,7 +14,7 @@ from .spec_table import parse_spec_table
 
 def motion(d: Draft) -> dict:
     """The model's motion block."""
-    dpp, note = DEGREES_PER_PULSE[d.family]
+    dpp, note = d.lookup(DEGREES_PER_PULSE)
     d.notes.append(note)
     m = {"degrees_per_pulse": dpp, "velocity_unit_rpm": velocity_unit(d)}
     cur = current_unit(d)

@@ -96,9 +96,14 @@ def rc(families, keys, lo, hi, evidence, quotes=(), note="", signed=False) -> Ra
                        note, signed)
 
 
-def find_choice(choices: list[RangeChoice], family: str, key: str) -> RangeChoice | None:
-    """The first choice for `key` in `family`, if any."""
-    return next((c for c in choices if family in c.families and key in c.keys), None)
+def find_choice(choices: list[RangeChoice], lineage: tuple[str, ...], key: str) -> RangeChoice | None:
+    """The first choice for `key` in the first family of `lineage` (variant, family, parents)
+    that has one, if any."""
+    for family in lineage:
+        found = next((c for c in choices if family in c.families and key in c.keys), None)
+        if found is not None:
+            return found
+    return None
 
 
 def evidence_found(choice: RangeChoice, page_text: str, read) -> bool:

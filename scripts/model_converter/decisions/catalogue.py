@@ -16,6 +16,7 @@ P2_FAMILIES = {"x", "mx2", "p", "pro"}            # Protocol 2.0 tables with 4-b
 # The pages whose layouts this converter reads. The reference holds more (the rest of the ROBOTIS
 # catalogue); they are named by --check and the summary as not converted, and are not models yet.
 CONVERTED_PAGES = (
+    "2xc430-w250",
     "2xl430-w250",
     "ax-12a",
     "ax-12w",
@@ -29,14 +30,28 @@ CONVERTED_PAGES = (
     "mx-64",
     "mx-64-2",
     "ph54-200-s500-r",
+    "rx-10",
     "rx-24f",
     "rx-28",
     "rx-64",
+    "xc330-m181",
+    "xc330-m288",
+    "xc330-t181",
     "xc330-t288",
+    "xc430-t150bb",
+    "xc430-t240bb",
     "xc430-w150",
     "xc430-w240",
+    "xd430-t210",
+    "xd430-t350",
+    "xd540-t150",
+    "xd540-t270",
+    "xh430-v210",
+    "xh430-v350",
     "xh430-w210",
     "xh430-w350",
+    "xh540-v150",
+    "xh540-v270",
     "xh540-w150",
     "xh540-w270",
     "xl-320",
@@ -47,16 +62,26 @@ CONVERTED_PAGES = (
     "xm430-w350",
     "xm540-w150",
     "xm540-w270",
+    "xw430-t200",
+    "xw430-t333",
+    "xw540-h260",
+    "xw540-t140",
     "xw540-t260",
 )
 
 # Page name (fullmatch) -> behaviour family (docs/model-format.md `family`) and the e-Manual's
-# `page.product_group`. The first pattern that matches wins.
+# `page.product_group` (the front matter of the e-Manual page; ROBOTIS-GIT/docs pages carry none,
+# so the group of their e-Manual original is used). The first pattern that matches wins.
 PAGE_RULES = (
     (r"xl-320", "xl320", "dxl_xl320"),
     (r"xl330.*", "x", "xl330"),
     (r"xc330.*", "x", "xc330"),
-    (r"2?x.*", "x", "dxl_x430"),
+    (r"xm335.*", "x", "xm335"),
+    (r"2?x[lc]430.*", "x", "dxl_xl430"),
+    (r"x[mhd]540.*", "x", "dxl_x540"),
+    (r"xw540.*", "x", "dxl_xw540"),
+    (r"xw430.*", "x", "dxl_xw430"),
+    (r"x[mhd]430.*", "x", "dxl_x430"),
     (r"mx-.*-2", "mx2", "dxl_mx2"),
     (r"mx-.*", "mx1", "dxl_mx"),
     (r"ax-.*", "ax", "dxl_ax"),
@@ -68,7 +93,7 @@ PAGE_RULES = (
 
 # Product groups whose decisions differ from the rest of their family (firmware version,
 # protocols, Protocol Type values, Indirect blocks): the X330 line of the X family.
-VARIANTS = {"xl330": "x330", "xc330": "x330"}
+VARIANTS = {"xl330": "x330", "xc330": "x330", "xm335": "x330"}
 
 
 def classify(name: str) -> tuple[str, str]:
@@ -79,6 +104,21 @@ def classify(name: str) -> tuple[str, str]:
     raise SystemExit(f"convert_models: no family rule for page {name!r}")
 
 
+# Families whose decisions fall back to another family's where they have no entry of their own:
+# DX is the RX generation's servo (protocol1.md: 'DYNAMIXELs using Protocol 1.0 such as AX-12A, DX
+# series'), PRO(A) runs the DYNAMIXEL-P firmware on PRO hardware (its page shows the P layout).
+FAMILY_PARENTS = {"dx": "rx", "pro_a": "p"}
+
+
 def variant_of(family: str, group: str) -> str:
     """The key of the per-variant decisions: VARIANTS[group], else the family."""
     return VARIANTS.get(group, family)
+
+
+def lineage(family: str, group: str) -> tuple[str, ...]:
+    """The keys a decision table is asked for, most specific first: the variant (if it is not the
+    family), the family, then its parents (FAMILY_PARENTS)."""
+    keys = [variant_of(family, group), family]
+    while keys[-1] in FAMILY_PARENTS:
+        keys.append(FAMILY_PARENTS[keys[-1]])
+    return tuple(dict.fromkeys(keys))

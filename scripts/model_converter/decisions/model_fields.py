@@ -139,4 +139,11 @@ DUAL_AXIS = {
         "axes: two axes, each with this control table; Baud Rate(8) and Protocol Type(13) are shared "
         "('Attempting to change the Baud Rate of one joint will also affect the other joint'); EEPROM is "
         "writable only while both axes have Torque Enable 0 (README 16)"),
+    "2xc430-w250": DualAxis(
+        ("baud_rate", "protocol_type"),
+        "default_id: 1 for the first axis; the second axis of the module is ID 2 (ID(7) initial '1, 2')",
+        "axes: two axes, each with this control table; Baud Rate(8) and Protocol Type(13) are shared ('Only one "
+        "Baud Rate can be used for the 2XC430-W250. Attempting to change the Baud Rate of one joint will also "
+        "affect to the other joint', the same for Protocol Type); EEPROM is writable only while both axes have "
+        "Torque Enable 0, as on the 2XL430-W250 (README 16)"),
 }
