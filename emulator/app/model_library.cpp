@@ -77,10 +77,14 @@ ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
 
 void ModelLibrary::add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin) {
   for (const auto& [name, other] : models_) {
-    if (other->model_number == spec->model_number) {
+    const bool declared =
+        spec->shares_model_number_with == name || other->shares_model_number_with == spec->name;
+    if (other->model_number == spec->model_number && !declared) {
       throw model::ModelError(origin, "/model_number",
                               "model number " + std::to_string(spec->model_number) +
-                                  " is already used by " + name + " (" + origins_.at(name) + ")");
+                                  " is already used by " + name + " (" + origins_.at(name) +
+                                  "); a model that reports another's number names it in "
+                                  "shares_model_number_with");
     }
   }
   if (models_.count(spec->name) != 0) {
@@ -96,12 +100,16 @@ std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& na
 }
 
 std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number) const {
+  std::shared_ptr<const model::ModelSpec> sharing;
   for (const auto& [name, spec] : models_) {
     if (spec->model_number == number) {
-      return spec;
+      if (spec->shares_model_number_with.empty()) {
+        return spec;
+      }
+      sharing = spec;
     }
   }
-  return nullptr;
+  return sharing;
 }
 
 fs::path shipped_models_dir() {

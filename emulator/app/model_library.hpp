@@ -24,7 +24,8 @@ class ModelLibrary {
 
   /// The model named `name` ("xm430-w350"), or nullptr.
   std::shared_ptr<const model::ModelSpec> find(const std::string& name) const;
-  /// The model whose Model Number is `number`, or nullptr.
+  /// The model whose Model Number is `number` (of models sharing one, the one that declares no
+  /// shares_model_number_with), or nullptr.
   std::shared_ptr<const model::ModelSpec> find(std::uint16_t number) const;
   /// All models, by name.
   const std::map<std::string, std::shared_ptr<const model::ModelSpec>>& models() const {

@@ -73,7 +73,15 @@ constexpr FamilyTraits kPro = [] {
   return row;
 }();
 
-// AX, and RX and EX like it.
+// PRO(A): the DYNAMIXEL-P firmware on PRO hardware (the P table and rules), without the Fast
+// Sync/Bulk Read that protocol2.md lists for P and X only.
+constexpr FamilyTraits kProA = [] {
+  FamilyTraits row = with_name(kP, Family::ProA, "pro_a");
+  row.fast_read = FastRead::None;
+  return row;
+}();
+
+// AX, and RX, EX and DX like it.
 constexpr FamilyTraits kAx = {.family = Family::Ax,
                               .name = "ax",
                               .drive = DriveKind::JointWheel,
@@ -104,9 +112,9 @@ constexpr FamilyTraits kXl320 = {.family = Family::Xl320,
                                  .fault_bits = kXl320FaultBits};
 
 // In the order of `Family`: traits_of() indexes it.
-constexpr std::array<FamilyTraits, 9> kFamilies = {
+constexpr std::array<FamilyTraits, 11> kFamilies = {
     kX,     kMx2, kMx1, kAx, with_name(kAx, Family::Rx, "rx"), with_name(kAx, Family::Ex, "ex"),
-    kXl320, kP,   kPro,
+    kXl320, kP,   kPro, with_name(kAx, Family::Dx, "dx"), kProA,
 };
 
 constexpr bool rows_in_family_order() {

@@ -11,7 +11,7 @@ namespace dxlemu::model {
 
 /// Behaviour family: which rules of the e-Manual a model follows beyond its control table. Each
 /// family is one row of the traits table (family_traits.cpp), in this order.
-enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro };
+enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro, Dx, ProA };
 
 /// How a family's goal items select a control mode and move the motor, and how the motor shows
 /// in its Present motion items: one implementation of model/drive.hpp each.

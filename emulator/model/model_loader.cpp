@@ -13,10 +13,11 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 19> kModelFields = {"$schema",
+constexpr std::array<std::string_view, 20> kModelFields = {"$schema",
                                                            "name",
                                                            "title",
                                                            "model_number",
+                                                           "shares_model_number_with",
                                                            "firmware_version",
                                                            "family",
                                                            "protocols",
@@ -260,6 +261,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.name = root.at("name").string();
   spec.title = root.at("title").string();
   spec.model_number = static_cast<std::uint16_t>(root.at("model_number").integer(0, kU16));
+  if (root.has("shares_model_number_with")) {
+    spec.shares_model_number_with = root.child("shares_model_number_with").string();
+  }
   spec.firmware_version = static_cast<std::uint8_t>(root.at("firmware_version").integer(0, kU8));
   const std::string family = root.at("family").string();
   const auto f = family_from_name(family);

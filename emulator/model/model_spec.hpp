@@ -108,6 +108,9 @@ struct ModelSpec {
   std::string name;   ///< e.g. "xm430-w350": the name used in the CLI, configs and the API
   std::string title;  ///< e.g. "XM430-W350"
   std::uint16_t model_number = 0;
+  /// The model whose number this one reports too, where ROBOTIS gave two products one number
+  /// (XC430-T150BB reports XC430-W150's 1070); empty for the usual one number, one model.
+  std::string shares_model_number_with;
   std::uint8_t firmware_version = 0;
   Family family = Family::X;              ///< its traits: traits()
   std::vector<wire::Protocol> protocols;  ///< default first

@@ -7,7 +7,7 @@ import re
 
 from . import motion
 from .decisions.model_fields import (BAUD_FORMULA_FAMILIES, BAUD_FORMULA_NOTE, BOOT_MS, BOOT_NOTE, DEFAULT_ID,
-                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, PROTOCOLS,
+                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, PROTOCOLS, SHARED_MODEL_NUMBERS,
                                      RETURN_DELAY_NOTE, RETURN_DELAY_UNIT_US, TIMING)
 from .item_builder import build_items
 from .items import Draft
@@ -33,8 +33,12 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
     dual = DUAL_AXIS.get(d.name)
     if dual:
         d.notes.append(dual.default_id_note)
-    model = {
-        "name": d.name, "title": title(d), "model_number": model_number,
+    model = {"name": d.name, "title": title(d), "model_number": model_number}
+    shared = SHARED_MODEL_NUMBERS.get(d.name)
+    if shared:
+        model["shares_model_number_with"] = shared[0]
+        d.notes.append(shared[1])
+    model |= {
         "firmware_version": fw, "family": d.family, "protocols": protocols(d),
         "default_id": DEFAULT_ID, "baud_rates": rates, "default_baud_index": default_baud,
         "return_delay_unit_us": RETURN_DELAY_UNIT_US, "timing": dict(figures, boot_ms=BOOT_MS),

@@ -51,6 +51,7 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
                         "family": model["family"], "protocols": model["protocols"], "file": f"{name}.json"})
         n_notes = len(model["notes"]) + sum(1 for i in model["items"] if "note" in i)
         summary.append((name, model["family"], len(model["items"]), len(model["notes"]), n_notes, deviations))
+    check_model_numbers(files)
     files["catalog.json"] = dump({"models": sorted(catalog, key=lambda c: c["name"])})
     if not quiet:
         print(f"{'model':<18} {'family':<6} {'items':>5} {'model notes':>11} {'all notes':>9}  documented deviations")
@@ -61,6 +62,21 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
             fams[fam] = fams.get(fam, 0) + 1
         print("per family: " + ", ".join(f"{f} {n}" for f, n in sorted(fams.items())))
     return files
+
+
+def check_model_numbers(files: dict[str, str]) -> None:
+    """Two models report one number only where one of them names the other in
+    shares_model_number_with (the library refuses it otherwise)."""
+    models = {m["name"]: m for m in (json.loads(text) for text in files.values())}
+    by_number: dict[int, str] = {}
+    for name, m in sorted(models.items()):
+        other = m.get("shares_model_number_with")
+        if other is not None and models.get(other, {}).get("model_number") != m["model_number"]:
+            raise SystemExit(f"convert_models: {name}: shares_model_number_with {other!r}, which does not "
+                             f"report {m['model_number']}")
+        first = by_number.setdefault(m["model_number"], name)
+        if first != name and other != first and models[first].get("shares_model_number_with") != name:
+            raise SystemExit(f"convert_models: {name} and {first} both report model number {m['model_number']}")
 
 
 def print_not_converted(ref: Reference) -> None:

@@ -9,13 +9,14 @@ from __future__ import annotations
 import re
 
 from . import item_ranges
-from .decisions.catalogue import P2_FAMILIES
+from .decisions.catalogue import P2_FAMILIES, classify
 from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
                                    MID_POSITION, OPMODE_BLOCKS, PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES,
-                                   SIGNED_READBACK, SIGNED_READBACK_FAMILIES, ZERO_REASONS, InitialRule)
+                                   SIGNED_READBACK, SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS,
+                                   InitialRule)
 from .items import Draft, Item
 from .markdown import clean_cell, clean_unit, parse_int, snake_key, tables_in
-from .page import Row
+from .page import Row, read_page
 
 
 def build_items(d: Draft, fw: int) -> None:
@@ -176,6 +177,17 @@ def supply_voltage(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
     return (low.initial + high.initial) // 2, {"low": low.initial, "high": high.initial}
 
 
+def twin_page(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
+    """The printed factory value of the same item on the page TWIN_PAGES pairs with this one."""
+    twin = TWIN_PAGES.get(d.name)
+    if twin is None:
+        return None
+    rows = [r for r in read_page(d.ref, twin, *classify(twin)).rows if r.address == item.row.address]
+    if len(rows) != 1 or snake_key(rows[0].name) != snake_key(item.row.name) or parse_int(rows[0].initial) is None:
+        raise ValueError(f"{d.name}.{item.key}: {twin} prints no factory value at {item.row.address}")
+    return parse_int(rows[0].initial), {"twin": twin}
+
+
 # The values InitialRule.computed names: (draft, item, firmware version) -> (value, further note
 # fields) or None when the model lacks what the value is computed from.
 INITIAL_COMPUTATIONS = {
@@ -183,6 +195,7 @@ INITIAL_COMPUTATIONS = {
     "mid_position": lambda d, item, fw: (d.lookup(MID_POSITION), {}),
     "supply_voltage": supply_voltage,
     "range_top": lambda d, item, fw: (item.static_range()[1], {}),
+    "twin_page": twin_page,
 }
 
 

@@ -86,8 +86,9 @@ class Draft:
 
     @property
     def lineage(self) -> tuple[str, ...]:
-        """Variant, family and parent families: the keys decisions are looked up by, in order."""
-        return lineage(self.family, self.page.group)
+        """The page, its variant, family and parent families: the keys decisions are looked up by,
+        most specific first (a decision for one page is an entry under its name)."""
+        return (self.name, *lineage(self.family, self.page.group))
 
     def lookup(self, table: dict, default=KeyError):
         """The entry of a per-variant decision table for the first key of the lineage it has;

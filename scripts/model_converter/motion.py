@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import re
 
-from .decisions.model_fields import DEGREES_PER_PULSE
+from .decisions.model_fields import DEGREES_PER_PULSE, VELOCITY_UNITS
 from .decisions.motor_specs import EXTERNAL_SPECS
 from .items import Draft
 from .markdown import clean_cell, tables_in, unit_number
@@ -26,7 +26,11 @@ def motion(d: Draft) -> dict:
 
 
 def velocity_unit(d: Draft) -> float:
-    """rev/min per velocity unit, from models.tsv, checked against the Unit column."""
+    """rev/min per velocity unit, from models.tsv (else VELOCITY_UNITS), checked against the Unit column."""
+    decided = d.lookup(VELOCITY_UNITS, None)
+    if decided is not None:
+        d.notes.append(decided[1])
+        return decided[0]
     col = d.tsv["max_speed_units"]
     mt = re.search(r"x ([\d.]+) rev/min|about ([\d.]+) ?rpm/unit", col)
     if not mt:

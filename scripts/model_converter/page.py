@@ -77,7 +77,7 @@ class Page:
 
 COLUMN_PATTERNS = [
     ("address", r"^address$"), ("size", r"^size"), ("name", r"^data name$"),
-    ("description", r"^description$"), ("access", r"^access$"), ("initial", r"^initial"),
+    ("description", r"^description$"), ("access", r"^access$"), ("initial", r"^(initial|default value)"),
     ("range", r"^range$"), ("unit", r"^unit$"), ("min", r"^min$"), ("max", r"^max$"),
     ("modbus", r"modbus"),
 ]

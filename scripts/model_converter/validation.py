@@ -9,8 +9,9 @@ from pathlib import Path
 from .markdown import parse_int, snake_key
 from .page import Page
 from .ranges import RangeSpec, full_width, parse_range
+from .decisions.catalogue import PAGE_RULES
 
-FAMILIES = {"x", "mx2", "mx1", "ax", "rx", "ex", "xl320", "p", "pro"}
+FAMILIES = {family for _, family, _ in PAGE_RULES}
 TOP_REQUIRED = {"name": str, "title": str, "model_number": int, "firmware_version": int, "family": str,
                 "protocols": list, "default_id": int, "baud_rates": list, "default_baud_index": int,
                 "return_delay_unit_us": int, "timing": dict, "motion": dict, "source": str, "items": list}

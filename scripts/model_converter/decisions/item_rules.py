@@ -47,7 +47,8 @@ INITIAL_RULES = {
                                      value=0),
     "torque_limit": InitialRule("initial: the page shows {what}; Torque Limit takes the value of Max Torque at "
                                 "power-on (Torque Limit description: 'the value of Max Torque ... is used as "
-                                "the initial value')", copy_from="max_torque", printed=r"max torque|-"),
+                                "the initial value'; MX-12W prints 'ADD 14&15', the address of Max Torque)",
+                                copy_from="max_torque", printed=r"max torque|-|add 14\s*&(amp;)?\s*15"),
     "goal_pwm": InitialRule("initial: the page shows '-'; Goal PWM starts at PWM Limit (the X/MX(2.0) Goal PWM "
                             "block's range row reads 'Initial Value of PWM Limit', and switching Operating Mode "
                             "resets Goal PWM to PWM Limit)", copy_from="pwm_limit"),
@@ -63,9 +64,28 @@ INITIAL_RULES = {
                                        value=25),
     "acceleration_limit": InitialRule("initial: the page shows '-'; {value:,} (the top of the range, so the "
                                       "factory setting refuses no Goal Acceleration) chosen", computed="range_top"),
+    "velocity_limit": InitialRule("initial: the page shows '-'; 1,023 chosen, the top of the Goal Velocity range its "
+                                  "description states ('-1,023 ~ 1,023 (0x3FF) can be used', L42-10-S300-R), so the "
+                                  "factory setting refuses no documented Goal Velocity", value=1023),
     "sensed_current": InitialRule("initial: the page shows '-'; 512 ('512 is equal to 0mA', description) chosen",
                                   value=512),
 }
+
+# PRO(A) pages print '-' for the gains and Bus Watchdog. A PRO(A) servo is the DYNAMIXEL-P of the
+# same motor under its earlier "PRO+" name (the reference README: h54p-200-s500-r etc. are "earlier
+# 'PRO+' names of the PH/PM pages"; the PRO(A) pages pull `en/dxl/pro_plus/` includes), and both
+# tables have these items at the same addresses: the P page's factory value is used.
+TWIN_PAGES = {
+    "h42-20-s300-ra": "ph42-020-s300-r", "h54-100-s500-ra": "ph54-100-s500-r",
+    "h54-200-s500-ra": "ph54-200-s500-r", "m42-10-s260-ra": "pm42-010-s260-r",
+    "m54-40-s250-ra": "pm54-040-s250-r", "m54-60-s250-ra": "pm54-060-s250-r",
+}
+_FROM_TWIN = InitialRule("initial: the page shows '-'; {value} is the factory value the DYNAMIXEL-P page of the "
+                         "same servo prints at this address (control-tables/{twin}.md; PRO(A) = the P series' "
+                         "earlier 'PRO+' firmware, TWIN_PAGES)", computed="twin_page")
+for _key in ("velocity_i_gain", "velocity_p_gain", "position_d_gain", "position_i_gain", "position_p_gain",
+             "feedforward_1st_gain", "feedforward_2nd_gain", "bus_watchdog"):
+    INITIAL_RULES[_key] = _FROM_TWIN
 
 # The centre of travel per family, the power-on value of the position items.
 MID_POSITION = {"x": 2048, "mx2": 2048, "mx1": 2048, "ex": 2048, "ax": 512, "rx": 512, "xl320": 512,

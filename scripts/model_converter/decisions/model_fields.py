@@ -40,6 +40,11 @@ FIRMWARE = {
               "firmware version, so 1 is an arbitrary placeholder"),
     "ex": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the EX "
               "firmware version, so 1 is an arbitrary placeholder"),
+    "dx": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the DX "
+              "firmware version, so 1 is an arbitrary placeholder"),
+    "pro_a": (1, "firmware_version: the page shows '-'; no instruction or item of the PRO(A) table depends on a "
+                 "firmware version in the reference (protocol2.md lists no PRO(A) among the Fast Sync/Bulk Read "
+                 "servos), so 1 is an arbitrary placeholder"),
 }
 
 # Reply timing per family: the figures and the note. Only the AX-12 is measured.
@@ -65,6 +70,23 @@ RETURN_DELAY_UNIT_US = 2
 RETURN_DELAY_NOTE = "return_delay_unit_us: 2 (Return Delay Time include: 'its unit is 2 [usec]')"
 
 DEFAULT_ID = 1
+
+# Pages that print another model's number: the servo reports it (the page is the reference), and
+# the model file names the other model so the library accepts the shared number.
+SHARED_MODEL_NUMBERS = {
+    "xc430-t150bb": ("xc430-w150", "shares_model_number_with: the page prints 1,070, XC430-W150's number (the "
+                                   "BB version 'applies metal ball bearings ... instead of plastic bushing'; "
+                                   "DynamixelSDK's dynamixel.model has no BB entry, 1070 = xc430_w150.model). "
+                                   "Kept: a client reads 1070 and treats it as an XC430-W150, whose table is the "
+                                   "same but for Velocity Limit's factory value (235 here, 139 there)"),
+    "xc430-t240bb": ("xc430-w240", "shares_model_number_with: the page prints 1,080, XC430-W240's number (the "
+                                   "ball-bearing version; dynamixel.model has no BB entry, 1080 = "
+                                   "xc430_w240.model). Kept, as for XC430-T150BB"),
+    "xw430-t200": ("xw430-t333", "shares_model_number_with: the page prints 1,270, XW430-T333's number, and "
+                                 "DynamixelSDK registers no number for its xw430_t200.model (its control table "
+                                 "has the same items at the same addresses). Kept as printed: no other number "
+                                 "is stated anywhere in the reference"),
+}
 
 # Protocols per variant, and the note where the list needs one.
 _PROTOCOLS_1 = ([1], None)
@@ -102,6 +124,9 @@ _DPP_4096 = (360 / 4096, "motion.degrees_per_pulse: 360/4096 (4,096 pulses per r
 _DPP_300_DEG = (300 / 1024, "motion.degrees_per_pulse: 300/1024 = 0.29296875 (the spec's 'Resolution 0.29 deg': "
                             "Goal Position 0 ~ 1,023 over 0 ~ 300 deg, 512 = 150 deg)")
 DEGREES_PER_PULSE = {
+    "l42-10-s300-r": (360 / 4096, "motion.degrees_per_pulse: 360/4096 (the Goal Position description: 'position "
+                                  "range 0 ~ 4,095'; Min/Max Position Limit default -2,047 / 2,048, one turn "
+                                  "of 4,096 pulses), not the 180/250,961 of the larger PRO models"),
     "x": _DPP_4096, "mx2": _DPP_4096, "mx1": _DPP_4096,
     "ax": _DPP_300_DEG, "rx": _DPP_300_DEG, "xl320": _DPP_300_DEG,
     "ex": (251 / 4096, "motion.degrees_per_pulse: 251/4096 = 0.0613 (spec: 'Resolution 0.06 deg', 'Running "
@@ -112,6 +137,12 @@ DEGREES_PER_PULSE = {
     "pro": (float(Fraction(180, 250961)), "motion.degrees_per_pulse: 180/250,961, derived from the default "
                                           "position limits +-250,961 taken as +-180 deg (models.tsv: 'derived "
                                           "from defaults, not stated')"),
+}
+
+# rev/min per velocity unit where models.tsv states none.
+VELOCITY_UNITS = {
+    "l42-10-s300-r": (0.114, "motion.velocity_unit_rpm: 0.114 rev/min per unit (Goal Velocity(600) description: "
+                             "'the conversion unit is about 0.114rpm'; models.tsv states none)"),
 }
 
 # Expected Indirect Address / Data blocks: (first n, last n, first address, first data address).
