@@ -38,7 +38,8 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
             raise SystemExit(f"convert_models: {name}: {exc}")
     files, catalog, summary = {}, [], []
     for name, page in pages.items():
-        rule = next((RANGE_DONORS[k] for k in lineage(page.family, page.group) if k in RANGE_DONORS), None)
+        keys = (name, *lineage(page.family, page.group))
+        rule = next((RANGE_DONORS[k] for k in keys if k in RANGE_DONORS), None)
         donors = {donor: pages[donor] for donor in rule.pages} if rule else {}
         try:
             model = build_model(ref, page, donors)

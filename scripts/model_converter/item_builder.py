@@ -99,7 +99,7 @@ def operating_modes(d: Draft):
     item = d.by_key.get("operating_mode")
     if item is None:
         return
-    if item.values is not None:          # P / PRO print the list
+    if item.values is not None and item.range_from != "donor":   # P / PRO print the list
         return
     text = d.page.text
     for block in OPMODE_BLOCKS:
@@ -109,7 +109,24 @@ def operating_modes(d: Draft):
             item.notes.append(block.note or f"values: the modes listed in {block.include}.md (the page's "
                                             f"Operating Mode block)")
             return
+    for sec in d.page.section_for(item.row.address):
+        values = mode_table_values(d.page.section_text(sec, d.ref))
+        if values:
+            item.values = values
+            item.notes.append("values: the modes of the Value table in the page's Operating Mode section, "
+                              "without the rows it marks Reserved (they replace any donor page's list)")
+            return
     raise ValueError(f"{d.name}: no Operating Mode block recognised")
+
+
+def mode_table_values(text: str) -> list[int]:
+    """The mode numbers of the first Value table in `text`, skipping 'Reserved' rows ('1 ~ 4')."""
+    for tab in tables_in(text.splitlines()):
+        if tab.header and tab.header[0].lower() == "value":
+            return [int(m.group(1)) for cells in tab.rows
+                    if "reserved" not in " ".join(cells).lower()
+                    for m in [re.match(r"\s*(\d+)", clean_cell(cells[0]))] if m]
+    return []
 
 
 def mode_values(d: Draft, include: str) -> list[int]:

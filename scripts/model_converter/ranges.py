@@ -7,6 +7,8 @@ How an item's range is decided, in order, is item_ranges.py.
 
 from __future__ import annotations
 
+import functools
+import operator
 import re
 from dataclasses import dataclass, field
 
@@ -63,6 +65,11 @@ def parse_range(cell: str) -> RangeSpec | None:
     n = parse_int(t)
     if n is not None:
         spec.values = [n]     # a lone number (Startup Configuration's "3"): resolved by the caller
+        return spec
+    # "0x20(Overload) 0x10(Electrical Shock) ...": the bits of a mask, any combination of them
+    bits = re.findall(r"0x([0-9A-Fa-f]+)\s*\([^)]*\)", t)
+    if bits and not re.sub(r"0x[0-9A-Fa-f]+\s*\([^)]*\)", "", t).strip():
+        spec.min, spec.max = 0, functools.reduce(operator.or_, (int(b, 16) for b in bits))
         return spec
     raise ValueError(f"range cell not understood: {t!r}")
 

@@ -218,6 +218,10 @@ class RangeCellTest(unittest.TestCase):
 
 
 class RangeArithmeticTest(unittest.TestCase):
+    def test_a_list_of_mask_bits_is_any_combination_of_them(self):
+        spec = parse_range("0x20(Overload)<br /> 0x10(Electrical Shock)<br /> 0x01(Input Voltagae)")
+        self.assertEqual((spec.min, spec.max), (0, 0x31))
+
     def test_full_width_of_each_size(self):
         self.assertEqual(full_width(1, False), (0, 255))
         self.assertEqual(full_width(2, True), (-32768, 32767))

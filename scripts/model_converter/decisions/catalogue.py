@@ -55,6 +55,8 @@ CONVERTED_PAGES = (
     "pm42-010-s260-r",
     "pm54-040-s250-r",
     "pm54-060-s250-r",
+    "rh-p12-rn",
+    "rh-p12-rna",
     "rx-10",
     "rx-24f",
     "rx-28",

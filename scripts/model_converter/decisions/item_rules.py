@@ -101,6 +101,11 @@ ZERO_REASONS = [
     (r"backup_ready", "no Control Table Backup exists in the factory state"),
     (r"external_port_data_\d+", "nothing connected / outputs low at power-on"),
     (r"profile_(acceleration|velocity)", "no profile, as on the X pages, whose initial value is 0"),
+    (r"bus_watchdog", "0 deactivates the Bus Watchdog (control_table_buswatchdog.md: '0 | Deactivate Bus Watchdog "
+                      "Function'), the factory state of every page that prints a value"),
+    (r"(velocity|position)_[pid]_gain|feedforward_(1st|2nd)_gain",
+     "the factory gains are stated nowhere in the reference (no page of the same firmware prints them); "
+     "dxlemu's motion model does not use the gains, so the value only answers a read"),
 ]
 
 # ---------------------------------------------------------------------------------------------
@@ -203,7 +208,9 @@ class RangeDonors:
     pages: tuple     # the donor pages (converted ones), in the order they are asked
 
 
-RANGE_DONORS = {"mx2": RangeDonors("MX(2.0)", ("xm430-w350", "xl430-w250"))}
+RANGE_DONORS = {"mx2": RangeDonors("MX(2.0)", ("xm430-w350", "xl430-w250")),
+                # 'the similar control table structure to DYNAMIXEL-PRO series' (its page header)
+                "rh-p12-rn": RangeDonors("RH-P12-RN", ("h54-200-s500-r",))}
 
 # Names that differ between a page and its donor page.
 NAME_ALIASES = {"protocol version": "protocol type"}

@@ -40,6 +40,10 @@ FIRMWARE = {
               "firmware version, so 1 is an arbitrary placeholder"),
     "ex": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the EX "
               "firmware version, so 1 is an arbitrary placeholder"),
+    "rh-p12-rna": (13, "firmware_version: the page shows '-'; 13 is the lowest RH-P12-RN(A) firmware with Fast Sync "
+                       "Read / Fast Bulk Read (protocol2.md: 'RH-P12-RN(A) (Fw v13 or above)')"),
+    "rh-p12-rn": (1, "firmware_version: the page shows '-'; no instruction or item of the RH-P12-RN (PRO-style) "
+                     "table depends on a firmware version in the reference, so 1 is an arbitrary placeholder"),
     "dx": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the DX "
               "firmware version, so 1 is an arbitrary placeholder"),
     "pro_a": (1, "firmware_version: the page shows '-'; no instruction or item of the PRO(A) table depends on a "
@@ -123,7 +127,12 @@ _DPP_4096 = (360 / 4096, "motion.degrees_per_pulse: 360/4096 (4,096 pulses per r
                          "'1 [pulse]' / models.tsv '4096 pulse/rev')")
 _DPP_300_DEG = (300 / 1024, "motion.degrees_per_pulse: 300/1024 = 0.29296875 (the spec's 'Resolution 0.29 deg': "
                             "Goal Position 0 ~ 1,023 over 0 ~ 300 deg, 512 = 150 deg)")
+_DPP_GRIPPER = (360 / 4096, "motion.degrees_per_pulse: 360/4096 (the RH-P12-RN specifications: 'Contactless "
+                            "Absolute Encoder (12bit, 360 deg)', 'Degree of Precision 0.088 deg'; the stroke 0 (open) ~ "
+                            "1,150 (closed) pulses is 0 ~ 109 mm, https://emanual.robotis.com/docs/en/platform/rh_p12_rn/)")
 DEGREES_PER_PULSE = {
+    "rh-p12-rn": _DPP_GRIPPER,
+    "rh-p12-rna": _DPP_GRIPPER,
     "l42-10-s300-r": (360 / 4096, "motion.degrees_per_pulse: 360/4096 (the Goal Position description: 'position "
                                   "range 0 ~ 4,095'; Min/Max Position Limit default -2,047 / 2,048, one turn "
                                   "of 4,096 pulses), not the 180/250,961 of the larger PRO models"),
@@ -141,6 +150,8 @@ DEGREES_PER_PULSE = {
 
 # rev/min per velocity unit where models.tsv states none.
 VELOCITY_UNITS = {
+    "rh-p12-rn": (0.114, "motion.velocity_unit_rpm: 0.114 rev/min per unit (the Velocity Limit(32) description's "
+                         "table: 'Unit 0.114 RPM'; models.tsv states none)"),
     "l42-10-s300-r": (0.114, "motion.velocity_unit_rpm: 0.114 rev/min per unit (Goal Velocity(600) description: "
                              "'the conversion unit is about 0.114rpm'; models.tsv states none)"),
 }

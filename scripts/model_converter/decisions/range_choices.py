@@ -11,6 +11,11 @@ LEGACY = "control-tables/includes/ax-legacy-page-description-sections.md"
 
 
 RANGE_CHOICES = [
+    rc("rh-p12-rn", ("max_position_limit", "min_position_limit"), 0, 1150, "PAGE",
+       "| Max Position(Close) | Min Position(Open) |",
+       note="the gripper's stroke, 0 (open) ~ 1,150 (closed), from the Max/Min Position Limit description table "
+            "('Max Position(Close) 1,150', 'Min Position(Open) 0'); the legacy PRO donor page's full width does not "
+            "apply to a gripper"),
     rc("ax rx ex mx1", "id", 0, 253, "control-tables/includes/control_table_id.md",
        "0~253 (0xFD) values can be used as an ID"),
     rc("rx", "baud_rate", 0, 254, "PAGE", "Available value range is 0 ~ 254(0xFE)"),
