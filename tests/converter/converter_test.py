@@ -12,7 +12,7 @@ ROOT = Path(__file__).resolve().parent.parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 
 from model_converter import item_builder, item_ranges  # noqa: E402
-from model_converter.decisions import catalogue, item_rules, model_fields  # noqa: E402
+from model_converter.decisions import catalogue, item_rules, model_fields, motor_specs  # noqa: E402
 from model_converter.items import Draft  # noqa: E402
 from model_converter.markdown import (camel_to_include, clean_cell, clean_unit, parse_bps, parse_int,  # noqa: E402
                                       select_liquid_branch, snake_key, tables_in, unit_number)
@@ -395,6 +395,58 @@ class DecisionTablesTest(unittest.TestCase):
             self.assertEqual(kinds.count(True), 1, key)
             if rule.computed:
                 self.assertIn(rule.computed, item_builder.INITIAL_COMPUTATIONS, key)
+
+
+def stated_number(value: float) -> str:
+    """A pattern for value as a source may print it: 5675 as "5,675", 1.0 as "1", "1.0" or "1.00"."""
+    text = f"{value:.6f}".rstrip("0").rstrip(".")
+    whole, _, fraction = text.partition(".")
+    whole = whole if len(whole) <= 3 else f"{whole[:-3]},?{whole[-3:]}"
+    fraction = rf"\.{fraction}0*" if fraction else r"(?:\.0+)?"
+    return rf"(?<![\d.,]){whole}{fraction}(?!\d|\.\d)"
+
+
+class MotorSpecsTest(unittest.TestCase):
+    """Every motor figure taken from outside the reference is quoted in its source text."""
+
+    def test_every_figure_and_voltage_appears_in_the_quoted_source(self):
+        for name, spec in motor_specs.EXTERNAL_SPECS.items():
+            for value in (spec.rpm, spec.nm, spec.amps, spec.volts):
+                if value is not None:
+                    self.assertGreater(value, 0, name)
+                    self.assertRegex(spec.source, stated_number(value), name)
+
+    def test_an_absent_figure_is_explained_and_a_stated_one_is_not_called_absent(self):
+        fields = {"rpm": "no_load_speed_rpm", "nm": "stall_torque_nm", "amps": "stall_current_a"}
+        for name, spec in motor_specs.EXTERNAL_SPECS.items():
+            absent = [field for attr, field in fields.items() if getattr(spec, attr) is None]
+            for field in absent:
+                self.assertIn(field, spec.missing, name)
+            if not absent:
+                self.assertEqual(spec.missing, "", name)
+
+    def test_keys_are_page_names(self):
+        for name in motor_specs.EXTERNAL_SPECS:
+            self.assertRegex(name, r"^[0-9a-z][0-9a-z+-]*$")
+
+    def test_data_strings_give_their_numbers_as_printed(self):
+        self.assertEqual(motor_specs.leading_number("5,675 [rev/min]"), 5675)
+        self.assertIsInstance(motor_specs.leading_number("5,675 [rev/min]"), int)
+        self.assertEqual(motor_specs.leading_number("16.0 [rev/min]"), 16.0)
+        self.assertIsInstance(motor_specs.leading_number("16.0 [rev/min]"), float)
+        self.assertRegex("0.60 [N.m] and 1.3 [A]", stated_number(0.6))
+        self.assertNotRegex("1.3 [A]", stated_number(1.0))
+
+    def test_continuous_only_models_quote_their_continuous_and_peak_figures(self):
+        specs = motor_specs.continuous_only_specs()
+        self.assertEqual(set(specs), set(motor_specs.CONTINUOUS_ONLY) | set(motor_specs.Y_PAGES))
+        p_spec = specs["ph42-020-s300-r"]
+        self.assertEqual((p_spec.rpm, p_spec.nm, p_spec.amps, p_spec.volts), (32.7, None, None, 24.0))
+        self.assertIn("conttorque '5.1 [N.m]'", p_spec.missing)
+        self.assertNotIn("peak", p_spec.missing)
+        y_spec = specs["ym080-230-a099-rh"]
+        self.assertEqual((y_spec.rpm, y_spec.volts), (32.2, 24.0))
+        self.assertIn("maximumtorque '61.4 [N.m]'", y_spec.missing)
 
 
 if __name__ == "__main__":
