@@ -97,7 +97,8 @@ def specs(d: Draft, m: dict):
             stated.append(f"{value} {unit}")
             keys.append(key)
     m["nominal_voltage_v"] = float(spec.volts)
-    d.notes.append(f"motion.{' / '.join(keys + ['nominal_voltage_v'])}: {', '.join(stated)} at {spec.volts} V "
+    figures = f"{', '.join(stated)} at {spec.volts} V" if stated else f"{spec.volts} V"
+    d.notes.append(f"motion.{' / '.join(keys + ['nominal_voltage_v'])}: {figures} "
                    f"from the e-Manual specifications: {spec.source}")
     if spec.missing:
         d.notes.append(f"motion: {spec.missing}")
