@@ -9,8 +9,8 @@ from pathlib import Path
 
 from .builder import build_model
 from .decisions.catalogue import CONVERTED_PAGES, classify, lineage
-from .decisions.item_rules import RANGE_DONORS
-from .page import read_page
+from .decisions.item_rules import BORROWED_ROWS, RANGE_DONORS
+from .page import borrow_rows, read_page
 from .reference import Reference
 from .validation import cross_check, differences, validate
 
@@ -36,6 +36,9 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
             pages[name] = read_page(ref, name, *classify(name))
         except ValueError as exc:
             raise SystemExit(f"convert_models: {name}: {exc}")
+    for name, (donor, rows) in BORROWED_ROWS.items():
+        if name in pages:
+            borrow_rows(pages[name], pages[donor], rows)
     files, catalog, summary = {}, [], []
     for name, page in pages.items():
         keys = (name, *lineage(page.family, page.group))

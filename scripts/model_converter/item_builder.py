@@ -10,7 +10,7 @@ import re
 
 from . import item_ranges
 from .decisions.catalogue import P2_FAMILIES, classify
-from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
+from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
                                    MID_POSITION, OPMODE_BLOCKS, PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES,
                                    SIGNED_READBACK, SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS,
                                    InitialRule)
@@ -48,6 +48,8 @@ def make_items(d: Draft):
             item.notes.append(f"key: '{key}' is also the key of {keys_seen[key].name}({keys_seen[key].address}); "
                               f"disambiguated with the address")
         keys_seen[key] = row
+        if row.borrowed:
+            item.notes.append(BORROWED_ROW_NOTE.format(donor=row.borrowed))
         if row.access == "R/RW":
             item.notes.append("access: the page prints 'R/RW' (read-only or writable depending on "
                               "External Port Mode); RW is used and the mode check is left to the emulator")

@@ -8,7 +8,7 @@ This is what the page prints, nothing decided: the builder turns it into a model
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .markdown import Table, camel_to_include, clean_cell, parse_int, tables_in
 from .reference import TAG_ALIASES, Reference
@@ -27,6 +27,7 @@ class Row:
     minmax: tuple | None      # XL-320 Min/Max columns
     area: str
     expanded: bool = False
+    borrowed: str = ""        # the page the row was taken from, when this page's revision lacks it
 
 
 @dataclass
@@ -212,6 +213,19 @@ def description_sections(lines: list[str]) -> list[Section]:
             addrs += [int(x) for x in re.findall(r"\d+", group)]
         sections.append(Section(title, addrs, i + 1, end))
     return sections
+
+
+def borrow_rows(page: Page, donor: Page, names: tuple[str, ...]) -> None:
+    """Adds the rows `names` of `donor` to `page` (marked `borrowed`), in address order: rows an
+    older revision of a page lacks that a newer page of the same table has."""
+    for name in names:
+        rows = [r for r in donor.rows if r.name == name]
+        if len(rows) != 1:
+            raise ValueError(f"{page.name}: {donor.name} has no single row {name!r} to borrow")
+        if any(r.address == rows[0].address for r in page.rows):
+            raise ValueError(f"{page.name}: address {rows[0].address} of {name!r} is taken")
+        page.rows.append(replace(rows[0], borrowed=donor.name))
+    page.rows.sort(key=lambda r: r.address)
 
 
 def read_page(ref: Reference, name: str, family: str, group: str) -> Page:

@@ -108,6 +108,20 @@ ZERO_REASONS = [
      "dxlemu's motion model does not use the gains, so the value only answers a read"),
 ]
 
+# Pages stored only in an older revision, and the rows they lack that a newer page of the same
+# table prints (the reference README: "Older stored revisions only ... no Startup Configuration(60)
+# / Backup Ready(878) rows"). DynamixelSDK 4.0.5's tables of these models have both items, and so
+# does the firmware a buyer gets today: the rows are taken from the donor page.
+_P_NEWER_ROWS = ("Startup Configuration", "Backup Ready")
+BORROWED_ROWS = {
+    "ph42-020-s300-r": ("ph54-100-s500-r", _P_NEWER_ROWS),
+    "pm54-040-s250-r": ("pm42-010-s260-r", _P_NEWER_ROWS),
+    "pm54-060-s250-r": ("pm42-010-s260-r", _P_NEWER_ROWS),
+}
+BORROWED_ROW_NOTE = ("row: not on this page, an older stored revision of it; taken from control-tables/{donor}.md, "
+                     "a newer page of the same DYNAMIXEL-P table (DynamixelSDK's tables have the item too); the "
+                     "rest of the page, Drive Mode's 0 ~ 1 included, is kept as this revision prints it")
+
 # ---------------------------------------------------------------------------------------------
 # Signedness
 # ---------------------------------------------------------------------------------------------

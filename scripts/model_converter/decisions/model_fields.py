@@ -82,14 +82,15 @@ SHARED_MODEL_NUMBERS = {
                                    "BB version 'applies metal ball bearings ... instead of plastic bushing'; "
                                    "DynamixelSDK's dynamixel.model has no BB entry, 1070 = xc430_w150.model). "
                                    "Kept: a client reads 1070 and treats it as an XC430-W150, whose table is the "
-                                   "same but for Velocity Limit's factory value (235 here, 139 there)"),
+                                   "same, row for row"),
     "xc430-t240bb": ("xc430-w240", "shares_model_number_with: the page prints 1,080, XC430-W240's number (the "
                                    "ball-bearing version; dynamixel.model has no BB entry, 1080 = "
                                    "xc430_w240.model). Kept, as for XC430-T150BB"),
     "xw430-t200": ("xw430-t333", "shares_model_number_with: the page prints 1,270, XW430-T333's number, and "
-                                 "DynamixelSDK registers no number for its xw430_t200.model (its control table "
-                                 "has the same items at the same addresses). Kept as printed: no other number "
-                                 "is stated anywhere in the reference"),
+                                 "DynamixelSDK registers no number for its xw430_t200.model (XW430-T333's table "
+                                 "has the same items at the same addresses; factory values differ, e.g. Velocity "
+                                 "Limit 235 here, 139 there). Kept as printed: no other number is stated anywhere "
+                                 "in the reference"),
 }
 
 # Protocols per variant, and the note where the list needs one.

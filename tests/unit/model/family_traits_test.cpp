@@ -17,7 +17,8 @@ namespace {
 const std::vector<std::pair<Family, std::string>> kNames = {
     {Family::X, "x"},         {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},
     {Family::Ax, "ax"},       {Family::Rx, "rx"},   {Family::Ex, "ex"},
-    {Family::Xl320, "xl320"}, {Family::P, "p"},     {Family::Pro, "pro"}};
+    {Family::Xl320, "xl320"}, {Family::P, "p"},     {Family::Pro, "pro"},
+    {Family::Dx, "dx"},       {Family::ProA, "pro_a"}};
 
 bool same_bits(const model::FaultBits& a, const model::FaultBits& b) {
   return a.input_voltage == b.input_voltage && a.overheating == b.overheating &&
@@ -34,13 +35,13 @@ TEST_CASE("Every family has one row, found by its name in model files", "[model]
     CHECK(model::family_name(family) == name);
     CHECK(model::family_from_name(name) == family);
   }
-  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro");
-  CHECK_FALSE(model::family_from_name("dx").has_value());
+  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, pro_a");
+  CHECK_FALSE(model::family_from_name("pro+").has_value());
 }
 
 TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down by alarm",
           "[model][traits]") {
-  for (const Family family : {Family::Ax, Family::Rx, Family::Ex, Family::Mx1}) {
+  for (const Family family : {Family::Ax, Family::Rx, Family::Ex, Family::Dx, Family::Mx1}) {
     CAPTURE(model::family_name(family));
     const model::FamilyTraits& t = traits_of(family);
     CHECK(t.drive == model::DriveKind::JointWheel);
@@ -56,12 +57,13 @@ TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down 
   }
   CHECK(traits_of(Family::Mx1).multi_turn_angle_limit == 4095);
   CHECK_FALSE(traits_of(Family::Ax).multi_turn_angle_limit.has_value());
-  // protocol1.md "Reboot": MX (v40+) knows it, AX, RX and EX do not.
+  // protocol1.md "Reboot": MX (v40+) knows it, AX, RX, EX (and DX, of their generation) do not.
   CHECK(traits_of(Family::Mx1).reboot);
-  for (const Family family : {Family::Ax, Family::Rx, Family::Ex}) {
+  for (const Family family : {Family::Ax, Family::Rx, Family::Ex, Family::Dx}) {
     CHECK_FALSE(traits_of(family).reboot);
   }
-  for (const Family family : {Family::X, Family::Mx2, Family::Xl320, Family::P, Family::Pro}) {
+  for (const Family family :
+       {Family::X, Family::Mx2, Family::Xl320, Family::P, Family::Pro, Family::ProA}) {
     CHECK(traits_of(family).reboot);
   }
 }
@@ -82,7 +84,7 @@ TEST_CASE("XL-320 moves like a 1.0 family but latches its errors in its own Shut
 
 TEST_CASE("The Operating Mode families hold at torque on and latch their errors",
           "[model][traits]") {
-  for (const Family family : {Family::X, Family::Mx2, Family::P, Family::Pro}) {
+  for (const Family family : {Family::X, Family::Mx2, Family::P, Family::Pro, Family::ProA}) {
     CAPTURE(model::family_name(family));
     const model::FamilyTraits& t = traits_of(family);
     CHECK(t.drive == model::DriveKind::OperatingMode);
@@ -97,10 +99,12 @@ TEST_CASE("The Operating Mode families hold at torque on and latch their errors"
   CHECK(traits_of(Family::X).extended_goals == model::ExtendedGoals::Turns);
   CHECK(traits_of(Family::Mx2).extended_goals == model::ExtendedGoals::Turns);
   CHECK(traits_of(Family::P).extended_goals == model::ExtendedGoals::ItemWidth);
+  CHECK(traits_of(Family::ProA).extended_goals == model::ExtendedGoals::ItemWidth);  // P firmware
   CHECK(traits_of(Family::Pro).extended_goals == model::ExtendedGoals::ItemRange);
   CHECK_FALSE(traits_of(Family::Pro).drive_mode_reverses);  // PRO has no Drive Mode
-  // Only P and PRO report the Hall sensor.
+  // Only P, PRO and PRO(A) report the Hall sensor.
   CHECK(model::fault_bit(Family::P, model::HardwareFault::HallSensor) == 0x02);
+  CHECK(model::fault_bit(Family::ProA, model::HardwareFault::HallSensor) == 0x02);
   CHECK(model::fault_bit(Family::Pro, model::HardwareFault::HallSensor) == 0x02);
   CHECK(model::fault_bit(Family::X, model::HardwareFault::HallSensor) == 0);
 }
