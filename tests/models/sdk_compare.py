@@ -92,9 +92,10 @@ def compare(c: Comparison) -> tuple[int, list[Difference]]:
     return len(c.sdk.items), diffs
 
 
-def check(comparisons: list[Comparison], pages_dir: Path | None) -> Result:
+def check(comparisons: list[Comparison], pages_dir: Path | None, models=()) -> Result:
     """Every comparison, with each model's notes applied: the explained differences, the
-    unexplained ones, and the notes that are malformed or explain nothing."""
+    unexplained ones, and the notes that are malformed or explain nothing (also those of the
+    `models` no comparison reaches)."""
     result = Result()
     by_notes: dict[tuple, list] = {}  # (model, notes) -> differences of its views with those notes
     for c in comparisons:
@@ -102,11 +103,16 @@ def check(comparisons: list[Comparison], pages_dir: Path | None) -> Result:
         result.compared_items += count
         result.differences.extend(diffs)
         by_notes.setdefault((c.view.name, c.view.notes), []).extend(diffs)
+    for m in models:
+        for view in m.views:
+            by_notes.setdefault((view.name, view.notes), [])
     used: dict[str, set] = {}  # model -> notes that explained something
     offered: dict[str, dict] = {}  # model -> note -> Explanation
     for (model, notes), diffs in by_notes.items():
         found, errors = explanations(notes, pages_dir)
-        result.note_errors.extend(f"{model}: {e}" for e in errors if f"{model}: {e}" not in result.note_errors)
+        for e in errors:
+            if f"{model}: {e}" not in result.note_errors:  # the file's notes are in every view's
+                result.note_errors.append(f"{model}: {e}")
         for e in found:
             offered.setdefault(model, {})[e.note] = e
         for d in diffs:

@@ -52,8 +52,15 @@ def run(reference: Path, models_dir: Path, out, verbose: bool = False) -> int:
         print(f"FAIL: {e}", file=out)
         return 1
     pairing = pair(registry, files, models)
-    result = check(pairing.comparisons, reference / "control-tables")
+    result = check(pairing.comparisons, reference / "control-tables", models)
+    report(pairing, result, len({f.base_file for f in files.values()}), len(models), out, verbose)
+    failed = result.unexplained or result.note_errors or pairing.errors
+    print("FAIL" if failed else "OK", file=out)
+    return 1 if failed else 0
 
+
+def report(pairing, result, sdk_models: int, model_files: int, out, verbose: bool):
+    """What was compared, the lists, the differences and the summary."""
     per = {}
     for c in pairing.comparisons:
         per.setdefault((c.sdk.file, c.view.label), [c, 0])
@@ -85,16 +92,12 @@ def run(reference: Path, models_dir: Path, out, verbose: bool = False) -> int:
             print(f"{title} ({len(lines)}):", file=out)
             for line in lines:
                 print(f"  {line}", file=out)
-    sdk_models = len({f.base_file for f in files.values()})
     print(f"Summary: {len(pairing.pairs)} models both sources know ({sdk_models} SDK models, "
-          f"{len(models)} model files; {len(pairing.shared)} more by a shared model number), "
+          f"{model_files} model files; {len(pairing.shared)} more by a shared model number), "
           f"{result.compared_items} items compared in {len(pairing.comparisons)} comparisons, "
           f"{len(result.explained)} explained differences, {len(result.unexplained)} unexplained; "
           f"{len(pairing.not_compared)} SDK files not compared, {len(pairing.sdk_without_model)} "
           f"SDK models without a model file yet.", file=out)
-    failed = result.unexplained or result.note_errors or pairing.errors
-    print("FAIL" if failed else "OK", file=out)
-    return 1 if failed else 0
 
 
 def main(argv=None) -> int:

@@ -370,6 +370,14 @@ class NotesTest(unittest.TestCase):
         self.assertEqual(len(result.note_errors), 1)
 
 
+    def test_a_note_of_a_model_no_sdk_file_reaches_explains_nothing(self):
+        note = "sdk-control-tables: rh_p12_rn.model Model Number: 35073 (control-tables/ph42-020-s300-r.md)"
+        unpaired = model("rh-p12-rn", 35073, BASIC_ITEMS, notes=[note])
+        result = check([], self.pages, [unpaired])
+        self.assertEqual(len(result.note_errors), 1)
+        self.assertIn("rh-p12-rn: explains no difference", result.note_errors[0])
+
+
 class RunTest(unittest.TestCase):
     """The whole run on a reference and a models/ directory written here."""
 
