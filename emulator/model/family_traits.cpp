@@ -113,8 +113,17 @@ constexpr FamilyTraits kXl320 = {.family = Family::Xl320,
 
 // In the order of `Family`: traits_of() indexes it.
 constexpr std::array<FamilyTraits, 11> kFamilies = {
-    kX,     kMx2, kMx1, kAx, with_name(kAx, Family::Rx, "rx"), with_name(kAx, Family::Ex, "ex"),
-    kXl320, kP,   kPro, with_name(kAx, Family::Dx, "dx"), kProA,
+    kX,
+    kMx2,
+    kMx1,
+    kAx,
+    with_name(kAx, Family::Rx, "rx"),
+    with_name(kAx, Family::Ex, "ex"),
+    kXl320,
+    kP,
+    kPro,
+    with_name(kAx, Family::Dx, "dx"),
+    kProA,
 };
 
 constexpr bool rows_in_family_order() {

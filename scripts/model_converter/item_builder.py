@@ -150,10 +150,11 @@ def mode_values(d: Draft, include: str) -> list[int]:
 def protocol_type_values(d: Draft):
     """Protocol Type values from the variant's include (PROTOCOL_TYPE_BLOCKS)."""
     item = d.by_key.get("protocol_type")
-    if item is None or d.variant not in PROTOCOL_TYPE_BLOCKS:
+    block = d.lookup(PROTOCOL_TYPE_BLOCKS, None)
+    if item is None or block is None:
         return
-    include, note = PROTOCOL_TYPE_BLOCKS[d.variant]
-    text = d.ref.include(include, d.page.group)
+    include, note, group = block
+    text = d.ref.include(include, group or d.page.group)
     tab = next(t for t in tables_in(text.splitlines()) if t.header[0].lower() == "value")
     item.values = [int(re.match(r"\s*(\d+)", clean_cell(c[0])).group(1)) for c in tab.rows]
     item.notes.append(note.format(values=", ".join(map(str, item.values))))

@@ -53,7 +53,7 @@ def current_unit(d: Draft) -> float | None:
             d.notes.append(f"motion.current_unit_ma: {u} (Unit column of {item.row.name}: '{item.unit}')")
             return u
     text = d.page.text
-    for pat, what in ((r"\|\s*about\s+([\d.]+)\s*\[mA\]", "the Current Limit description table"),
+    for pat, what in ((r"\|\s*(?i:about)\s+([\d.]+)\s*\[?mA\]?", "the Current Limit description table"),
                       (r"I = \( ([\d.]+)mA \)", "the Current(68) description 'I = ( 4.5mA ) * (CURRENT - 2048)'"),
                       (r"the unit is (\d+)mA", "the Sensed Current(56) description")):
         mt = re.search(pat, text)

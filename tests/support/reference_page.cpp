@@ -112,8 +112,17 @@ ReferencePage parse_reference_page(const std::filesystem::path& page) {
     row.size = static_cast<unsigned>(*size);
     row.name = cells.at(column(header, "Data Name"));
     row.access = cells.at(column(header, "Access"));
-    row.area = area;
-    row.initial = cells.at(column(header, "Initial"));
+    // One combined table (DYNAMIXEL-Y) says the area of each row; "Hybrid" is neither.
+    if (const int a = column(header, "Area"); a >= 0) {
+      const std::string& cell = cells.at(a);
+      row.area = cell == "EEPROM" || cell == "RAM" ? cell : "";
+    } else {
+      row.area = area;
+    }
+    // Legacy PRO pages head the column "Default Value".
+    const int initial =
+        column(header, "Initial") >= 0 ? column(header, "Initial") : column(header, "Default");
+    row.initial = cells.at(initial);
     if (const int r = column(header, "Range"); r >= 0) {
       row.range = cells.at(r);
     } else if (const int lo = column(header, "Min"), hi = column(header, "Max");

@@ -168,12 +168,16 @@ OPMODE_BLOCKS = [
                 without_item="goal_current"),
 ]
 
-# Protocol Type values per variant: the include whose Value table lists them, and the note
-# ({values} is the list).
+# Protocol Type values per variant: the include whose Value table lists them, the note ({values}
+# is the list), and the product group whose Liquid branch is read ("" for the page's own).
 PROTOCOL_TYPE_BLOCKS = {
     "x330": ("control_table_protocolversion",
              "values: the table prints 2 ~ 22; the accepted values are those of the XL330/XC330 Protocol Type "
-             "block (control_table_protocolversion.md): {values}"),
+             "block (control_table_protocolversion.md): {values}", ""),
+    "xm335-t323": ("control_table_protocolversion",
+                   "values: the table prints 2 ~ 22, as on XL330/XC330, but the Protocol Type block has no "
+                   "branch for the xm335 group (its default branch lists the X430 values 1, 2); the XL330/XC330 "
+                   "branch is used, whose values the printed range spans: {values}", "xc330"),
 }
 
 # Baud Rate values per family where the table's range names indices that select no rate.

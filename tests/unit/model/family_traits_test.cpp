@@ -15,10 +15,9 @@ using model::traits_of;
 namespace {
 
 const std::vector<std::pair<Family, std::string>> kNames = {
-    {Family::X, "x"},         {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},
-    {Family::Ax, "ax"},       {Family::Rx, "rx"},   {Family::Ex, "ex"},
-    {Family::Xl320, "xl320"}, {Family::P, "p"},     {Family::Pro, "pro"},
-    {Family::Dx, "dx"},       {Family::ProA, "pro_a"}};
+    {Family::X, "x"},     {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},     {Family::Ax, "ax"},
+    {Family::Rx, "rx"},   {Family::Ex, "ex"},   {Family::Xl320, "xl320"}, {Family::P, "p"},
+    {Family::Pro, "pro"}, {Family::Dx, "dx"},   {Family::ProA, "pro_a"}};
 
 bool same_bits(const model::FaultBits& a, const model::FaultBits& b) {
   return a.input_voltage == b.input_voltage && a.overheating == b.overheating &&

@@ -137,8 +137,9 @@ TEST_CASE("The loader refuses a model without the items every servo needs", "[mo
 }
 
 TEST_CASE("The loader refuses an unknown family", "[model][loader]") {
-  CHECK(refusal([](json& j) { j["family"] = "dx"; }) ==
-        "/family: unknown family \"dx\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro)");
+  CHECK(refusal([](json& j) { j["family"] = "pro+"; }) ==
+        "/family: unknown family \"pro+\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, "
+        "pro_a)");
 }
 
 TEST_CASE("The loader refuses an unsupported item size", "[model][loader]") {
