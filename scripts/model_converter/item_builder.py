@@ -10,7 +10,7 @@ import re
 
 from . import item_ranges
 from .decisions.catalogue import P2_FAMILIES, classify
-from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
+from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, KEY_ALIASES, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
                                    MID_POSITION, OPMODE_BLOCKS, PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES,
                                    SIGNED_READBACK, SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS,
                                    InitialRule)
@@ -43,6 +43,10 @@ def make_items(d: Draft):
     for row in d.page.rows:
         key = snake_key(row.name)
         item = Item(row, key)
+        if key in KEY_ALIASES:
+            key, note = KEY_ALIASES[key]
+            item.key = key
+            item.notes.append(note)
         if key in keys_seen:
             item.key = f"{key}_{row.address}"
             item.notes.append(f"key: '{key}' is also the key of {keys_seen[key].name}({keys_seen[key].address}); "

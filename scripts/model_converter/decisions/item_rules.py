@@ -108,6 +108,13 @@ ZERO_REASONS = [
      "dxlemu's motion model does not use the gains, so the value only answers a read"),
 ]
 
+# Keys of misspelt names: the item the emulator knows by the right key (Secondary ID behaviour is
+# read from `secondary_id`).
+KEY_ALIASES = {
+    "sencondary_id": ("secondary_id", "key: the page misspells the name 'Sencondary ID'; the item is Secondary "
+                                      "ID (its description section is 'Secondary ID(12)'), keyed secondary_id"),
+}
+
 # Pages stored only in an older revision, and the rows they lack that a newer page of the same
 # table prints (the reference README: "Older stored revisions only ... no Startup Configuration(60)
 # / Backup Ready(878) rows"). DynamixelSDK 4.0.5's tables of these models have both items, and so
