@@ -69,6 +69,18 @@ TEST_CASE("PRO(A) reports its own model number and the P rules' extended goals",
   CHECK(only_status(rig) == "id=1 error=0x00 params=09 D3");
 }
 
+TEST_CASE("PRO(A) and the older P pages' misspelt Sencondary ID is the Secondary ID", "[bus]") {
+  for (const char* name : {"h54-200-s500-ra", "ph42-020-s300-r"}) {
+    CAPTURE(name);
+    BusRig rig;
+    rig.add(name, 1).table().set("secondary_id", 9);
+    rig.send({Protocol::V2, 9, wire::Write{513, {200}}});  // LED Red, silently through the group
+    rig.run();
+    CHECK(rig.link.deliveries().empty());
+    CHECK(rig.bus.servos()[0]->table().get("led_red") == 200);
+  }
+}
+
 TEST_CASE("The RH-P12-RN grippers take only current and current-based position modes", "[bus]") {
   for (const char* name : {"rh-p12-rn", "rh-p12-rna"}) {
     CAPTURE(name);
