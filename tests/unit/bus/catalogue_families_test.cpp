@@ -138,3 +138,23 @@ TEST_CASE("The ball-bearing XC430 reports the number ROBOTIS gave it, XC430-W150
   CHECK(only_status(rig).rfind("id=1 error=0x00 params=2E 04", 0) == 0);  // 1070
   CHECK(test::shipped_model("xc430-t150bb")->shares_model_number_with == "xc430-w150");
 }
+
+TEST_CASE("An L42-10-S300-R turns within one turn of 4,096 pulses, up to its position limits",
+          "[bus][motion]") {
+  BusRig rig;
+  auto& servo = rig.add("l42-10-s300-r", 1);
+  rig.send({Protocol::V2, 1, wire::Write{596, le32(2049)}});  // beyond Max Position Limit 2,048
+  rig.run();
+  CHECK(only_status(rig) == "id=1 error=0x06");  // Data Limit Error
+
+  BusRig moving;
+  auto& l42 = moving.add("l42-10-s300-r", 1);
+  moving.send({Protocol::V2, 1, wire::Write{562, {1}}});  // Torque Enable
+  moving.run(10ms);
+  moving.send({Protocol::V2, 1, wire::Write{596, le32(-1024)}});  // a quarter turn back
+  moving.run(3s);
+  l42.advance_to(moving.scheduler.now());
+  CHECK(l42.table().get("present_position") >= -1026);
+  CHECK(l42.table().get("present_position") <= -1022);
+  CHECK(servo.spec().motion.degrees_per_pulse == Approx(360.0 / 4096));
+}
