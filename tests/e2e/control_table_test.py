@@ -32,7 +32,7 @@ import unittest
 from pathlib import Path
 from typing import NamedTuple
 
-from dxl_client import BAUD, Control, DaemonProcess, Port, packet1, packet2
+from dxl_client import BAUD, Control, DaemonProcess, Port, packet1, packet2, timeout_scale
 
 MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 
@@ -58,6 +58,8 @@ MAX_ID = 252  # the highest ID a config gives a servo
 BAUD_TOLERANCE = 0.03  # a servo hears a client within 3 % of its Baud Rate (docs/bus.md)
 FALLBACK_BAUD = 1000000  # where a model's factory rate is not one termios offers
 SETTLE_MS = 100  # lived at rest beyond its boot time before the first read
+REPLY_TIMEOUT_S = 2.0  # replies come at once under manual timing: only a slow host waits
+SILENCE_S = 0.05  # how long a servo that must not answer is given to answer anyway
 
 
 def is_live(key: str) -> bool:
@@ -223,7 +225,8 @@ class Wire:
         self.port = port
         self.bus = bus
 
-    def _status(self, timeout: float = 2.0):
+    def _status(self, timeout: float = REPLY_TIMEOUT_S):
+        timeout *= timeout_scale()
         if self.bus.protocol == 2:
             return self.port.status2(timeout)
         return self.port.status1(timeout)
@@ -282,7 +285,7 @@ class Wire:
 
     def write(self, servo: Servo, item: Item, data: bytes):
         self.port.write(self._packet(servo.id, WRITE, self._address(item.address) + data))
-        return self._status(2.0 if servo.model.answers_writes else 0.05)
+        return self._status(REPLY_TIMEOUT_S if servo.model.answers_writes else SILENCE_S)
 
 
 def check_table(servo: Servo, table: bytes) -> list[str]:
