@@ -1,6 +1,7 @@
 #include "app/command_line.hpp"
 
 #include <map>
+#include <stdexcept>
 
 #include "dxlemu/version.hpp"
 
@@ -20,6 +21,10 @@ constexpr int kMaxTickHz = 10000;
 const std::map<std::string, TimingMode> kTimingModes = {
     {"realtime", TimingMode::Realtime}, {"fast", TimingMode::Fast}, {"manual", TimingMode::Manual}};
 
+std::string unknown_family(const std::string& name) {
+  return "unknown family \"" + name + "\" (known: " + model::family_names() + ")";
+}
+
 CLI::App* add_models(CLI::App& app, CommandLine& line) {
   auto* models =
       app.add_subcommand("models", "List the model library: name, model number, protocols");
@@ -28,6 +33,22 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
                    "Also load every *.json model file of DIR (repeatable); a file replaces the "
                    "shipped model of the same name")
       ->check(CLI::ExistingDirectory);
+  ModelsArguments& filters = line.models;
+  models
+      ->add_option("--family", filters.family,
+                   "Only the models of this behaviour family: " + model::family_names())
+      ->check(CLI::Validator(
+          [](const std::string& name) {
+            return model::family_from_name(name) ? std::string() : unknown_family(name);
+          },
+          "FAMILY"));
+  models->add_option("--protocol", filters.protocol, "Only the models that can speak 1.0 or 2.0")
+      ->check(CLI::IsMember({1, 2}));
+  models->add_option("--name", filters.name,
+                     "Only the models whose name or title contains TEXT, ignoring case");
+  models->footer(
+      "Filters combine: a model is listed when it meets all of them. When none does, nothing "
+      "is listed, stderr says so and the exit status is still 0.");
   return models;
 }
 
@@ -145,6 +166,21 @@ CLI::App* add_ctl(CLI::App& app, CommandLine& line) {
 
 TimingMode timing_mode(const std::string& name) {
   return kTimingModes.at(name);
+}
+
+ModelFilter model_filter(const ModelsArguments& models) {
+  ModelFilter filter;
+  if (!models.family.empty()) {
+    filter.family = model::family_from_name(models.family);
+    if (!filter.family) {
+      throw std::invalid_argument("--family: " + unknown_family(models.family));
+    }
+  }
+  if (models.protocol) {
+    filter.protocol = *models.protocol == 1 ? wire::Protocol::V1 : wire::Protocol::V2;
+  }
+  filter.name_fragment = models.name;
+  return filter;
 }
 
 Subcommands define_command_line(CLI::App& app, CommandLine& line) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/emulator.hpp"
+#include "app/model_library.hpp"
 
 namespace dxlemu::app {
 
@@ -17,6 +18,13 @@ struct CtlArguments {
   std::string command;
   std::vector<std::string> args;
   double timeout_s = 0;
+};
+
+/// `dxlemu models`' filters, as given (README.md "Running the emulator").
+struct ModelsArguments {
+  std::string family;           ///< --family; empty: any
+  std::optional<int> protocol;  ///< --protocol
+  std::string name;             ///< --name, a fragment of the name or title; empty: any
 };
 
 /// Everything the command line can say, as parsed: the defaults until then.
@@ -38,6 +46,7 @@ struct CommandLine {
   int tick_hz = 0;                          ///< --tick-hz
   std::string log_level;                    ///< --log-level
   CtlArguments ctl;
+  ModelsArguments models;
 };
 
 /// The subcommands, to ask which one was given.
@@ -54,6 +63,10 @@ inline constexpr const char* kDefaultServos = "xm430-w350:1-3";
 
 /// The --timing names (docs/timing.md).
 TimingMode timing_mode(const std::string& name);
+
+/// The filter `models` asks for: the family named (already checked by the parser; an unknown
+/// one throws std::invalid_argument naming the known ones), the protocol, the name fragment.
+ModelFilter model_filter(const ModelsArguments& models);
 
 /// Defines dxlemu's options and subcommands on `app`, each parsed into `line` (which must
 /// outlive `app`); sets `line`'s defaults. The order here is the order of --help.

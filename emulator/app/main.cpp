@@ -197,14 +197,38 @@ void check_config(const std::string& file, const std::vector<std::string>& model
   }
 }
 
-// dxlemu models: one line per model of the library.
-void list_models(const std::vector<std::string>& model_dirs) {
+// The filters given to `dxlemu models`, as the user wrote them.
+std::string filters_text(const dxlemu::app::ModelsArguments& models) {
+  std::string out;
+  if (!models.family.empty()) {
+    out += " --family " + models.family;
+  }
+  if (models.protocol) {
+    out += " --protocol " + std::to_string(*models.protocol);
+  }
+  if (!models.name.empty()) {
+    out += " --name " + models.name;
+  }
+  return out;
+}
+
+// dxlemu models: one line per model of the library that the filters let through. None is not
+// an error (the library was read; it has no such model): stderr says so, the status is 0.
+void list_models(const std::vector<std::string>& model_dirs,
+                 const dxlemu::app::ModelsArguments& models) {
+  const auto filter = dxlemu::app::model_filter(models);
   const auto library = load_library(model_dirs);
+  const auto listed = library.select(filter);
+  if (listed.empty()) {
+    std::cerr << "dxlemu: no model matches" << filters_text(models) << " ("
+              << library.models().size() << " in the library)\n";
+    return;
+  }
   std::cout << std::left << std::setw(18) << "NAME" << std::setw(8) << "NUMBER" << std::setw(10)
             << "PROTOCOLS"
             << "FAMILY\n";
-  for (const auto& [name, spec] : library.models()) {
-    std::cout << std::setw(18) << name << std::setw(8) << spec->model_number << std::setw(10)
+  for (const auto& spec : listed) {
+    std::cout << std::setw(18) << spec->name << std::setw(8) << spec->model_number << std::setw(10)
               << protocols_text(*spec) << dxlemu::model::family_name(spec->family) << "\n";
   }
 }
@@ -231,7 +255,7 @@ int main(int argc, char** argv) {
     return run_command([&] { check_config(line.check_file, line.model_dirs); });
   }
   if (given.models->parsed()) {
-    return run_command([&] { list_models(line.model_dirs); });
+    return run_command([&] { list_models(line.model_dirs, line.models); });
   }
   // No subcommand: say what there is.
   std::cout << app.help();

@@ -1,6 +1,7 @@
 #include "app/model_library.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,12 @@ namespace dxlemu::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -110,6 +117,30 @@ std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number)
     }
   }
   return sharing;
+}
+
+std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::select(
+    const ModelFilter& filter) const {
+  std::vector<std::shared_ptr<const model::ModelSpec>> out;
+  for (const auto& [name, spec] : models_) {
+    if (filter.matches(*spec)) {
+      out.push_back(spec);
+    }
+  }
+  return out;
+}
+
+bool ModelFilter::matches(const model::ModelSpec& spec) const {
+  if (family && spec.family != *family) {
+    return false;
+  }
+  if (protocol &&
+      std::find(spec.protocols.begin(), spec.protocols.end(), *protocol) == spec.protocols.end()) {
+    return false;
+  }
+  const std::string fragment = lowercase(name_fragment);
+  return lowercase(spec.name).find(fragment) != std::string::npos ||
+         lowercase(spec.title).find(fragment) != std::string::npos;
 }
 
 fs::path shipped_models_dir() {

@@ -7,9 +7,21 @@
 #include <string>
 #include <vector>
 
+#include "model/family_traits.hpp"
 #include "model/model_spec.hpp"
+#include "wire/protocol.hpp"
 
 namespace dxlemu::app {
+
+/// Which models `dxlemu models` lists: every condition that is set must hold.
+struct ModelFilter {
+  std::optional<model::Family> family;     ///< the model's behaviour family
+  std::optional<wire::Protocol> protocol;  ///< one of the protocols the model can speak
+  std::string name_fragment;  ///< in the name or the title, ignoring case; empty: any model
+
+  /// True when `spec` meets every condition.
+  bool matches(const model::ModelSpec& spec) const;
+};
 
 /// Every model the emulator can instantiate: the shipped models (models/catalog.json) and the
 /// model files of any directories given with --models, which may add models or replace a shipped
@@ -31,6 +43,8 @@ class ModelLibrary {
   const std::map<std::string, std::shared_ptr<const model::ModelSpec>>& models() const {
     return models_;
   }
+  /// The models `filter` matches, by name.
+  std::vector<std::shared_ptr<const model::ModelSpec>> select(const ModelFilter& filter) const;
 
  private:
   void add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin);

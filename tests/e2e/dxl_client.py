@@ -26,8 +26,8 @@ from dxlemu.daemon import DaemonError, DaemonProcess, timeout_scale, wrapper_com
 from dxlemu.port import BAUD_RATES as BAUD  # noqa: E402
 from dxlemu.port import Port  # noqa: E402
 
-__all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "Port", "crc16",
-           "dxlemu_command", "heard", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
+__all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "DaemonProcess", "Port",
+           "crc16", "dxlemu_command", "heard", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
 
 BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 
