@@ -10,10 +10,10 @@ import re
 
 from . import item_ranges
 from .decisions.catalogue import P2_FAMILIES, classify
-from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, KEY_ALIASES, BUS_WATCHDOG_FAMILIES, INITIAL_RULES,
-                                   MID_POSITION, OPMODE_BLOCKS, PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES,
-                                   SIGNED_READBACK, SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS,
-                                   InitialRule)
+from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, BUS_WATCHDOG_FAMILIES,
+                                   INITIAL_OVERRIDES, INITIAL_RULES, KEY_ALIASES, MID_POSITION, OPMODE_BLOCKS,
+                                   PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES, SIGNED_READBACK,
+                                   SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS, InitialRule)
 from .items import Draft, Item
 from .markdown import clean_cell, clean_unit, parse_int, snake_key, tables_in
 from .page import Row, read_page
@@ -178,6 +178,11 @@ def initial_values(d: Draft, fw: int):
     for item in d.items:
         text = item.row.initial
         n = parse_int(text)
+        override = INITIAL_OVERRIDES.get((d.name, item.key))
+        if override is not None:
+            item.initial = override[0]
+            item.notes.append(override[1])
+            continue
         if n is not None:
             item.initial = n
             continue

@@ -49,6 +49,9 @@ RANGE_ERROR_BIT_V1 = 0x08
 V1_ADDRESS_SPACE = 256
 V1_MAX_DATA = 253
 V1_BULK_READ_MAX_DEVICES = (255 - 3) // 3
+# Servos per 2.0 Bulk Read: one packet asks for at most this many whole tables, so a reply
+# train stays a few kilobytes however many models the catalogue holds.
+V2_BULK_READ_MAX_DEVICES = 16
 V1_BULK_READ_FAMILIES = {"mx1", "mx2", "x"}  # protocol1.md "Bulk Read": MX, MX(2.0), X
 
 # The keys Protocol Type is known by (config.md `servos[].protocol`).
@@ -252,7 +255,7 @@ class Wire:
         span_count = max((len(s.spans()) for s in grouped), default=0)
         for index in range(span_count):
             batch = [s for s in grouped if index < len(s.spans())]
-            limit = len(batch) if self.bus.protocol == 2 else V1_BULK_READ_MAX_DEVICES
+            limit = V2_BULK_READ_MAX_DEVICES if self.bus.protocol == 2 else V1_BULK_READ_MAX_DEVICES
             for first in range(0, len(batch), limit):
                 self._bulk_read(batch[first:first + limit], index, tables, problems)
         for servo in single:

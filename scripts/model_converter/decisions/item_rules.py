@@ -71,6 +71,16 @@ INITIAL_RULES = {
                                   value=512),
 }
 
+# Printed factory values the reference itself contradicts: (page, key) -> (value, note).
+_XW430_PROTOCOL = (2, "initial: the page prints 1, but its own Protocol Type block (control_table_protocolversion.md) "
+                      "lists '2(default) | DYNAMIXEL Protocol 2.0 | ... X Series' and the Protocol Compatibility "
+                      "Table marks the XW430's Protocol 1.0 'O* (F/W address 13)', configuration required: the "
+                      "servo ships speaking 2.0, as every X servo, and 2 is used")
+INITIAL_OVERRIDES = {
+    ("xw430-t200", "protocol_type"): _XW430_PROTOCOL,
+    ("xw430-t333", "protocol_type"): _XW430_PROTOCOL,
+}
+
 # PRO(A) pages print '-' for the gains and Bus Watchdog. A PRO(A) servo is the DYNAMIXEL-P of the
 # same motor under its earlier "PRO+" name (the reference README: h54p-200-s500-r etc. are "earlier
 # 'PRO+' names of the PH/PM pages"; the PRO(A) pages pull `en/dxl/pro_plus/` includes), and both

@@ -203,6 +203,7 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
       INFO(item.key);
       CHECK(read_back(table, item) == item.initial);
     }
+    const auto notes = item_notes(spec->name);
     for (const auto& row :
          test::parse_reference_page(*reference / "control-tables" / (spec->name + ".md")).rows) {
       if (const auto initial = test::reference_number(row.initial)) {
@@ -212,7 +213,13 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
         }
         REQUIRE(item != nullptr);
         INFO(row.name);
-        CHECK(read_back(table, *item) == *initial);
+        // A printed value the reference contradicts is replaced, with an "initial:" note saying
+        // why.
+        const auto note = notes.find(item->key);
+        if (note == notes.end() ||
+            note->second.find("initial: the page prints") == std::string::npos) {
+          CHECK(read_back(table, *item) == *initial);
+        }
       }
     }
   }
