@@ -185,6 +185,7 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
       INFO(item.key);
       CHECK(read_back(table, item) == item.initial);
     }
+    const auto notes = item_notes(spec->name);
     for (const auto& row :
          test::parse_reference_page(*reference / "control-tables" / (spec->name + ".md")).rows) {
       if (const auto initial = test::reference_number(row.initial)) {
@@ -194,6 +195,11 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
         }
         REQUIRE(item != nullptr);
         INFO(row.name);
+        // As in the row-by-row cross-check: a printed value the item's note overrules (MX 1.0
+        // Current: the table prints 0, the description says it idles at 2048).
+        if (documented(notes, item->key, "initial")) {
+          continue;
+        }
         CHECK(read_back(table, *item) == *initial);
       }
     }
@@ -286,7 +292,7 @@ TEST_CASE("The JSON Schema declares exactly the fields the loader accepts", "[mo
   CHECK(keys_of(schema.at("$defs").at("motion").at("properties")) ==
         std::set<std::string>{"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma",
                               "no_load_speed_rpm", "stall_torque_nm", "nominal_voltage_v",
-                              "stall_current_a", "acceleration_unit_rpm2"});
+                              "stall_current_a", "acceleration_unit_rpm2", "current_zero"});
 }
 
 TEST_CASE("The JSON Schema names the families of the traits table, in its order",
