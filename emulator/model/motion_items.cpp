@@ -73,4 +73,9 @@ std::vector<std::size_t> MotionItems::readings() const {
                   moving, moving_status, present_voltage, present_temperature, realtime_tick});
 }
 
+std::vector<std::size_t> MotionItems::reading_settings() const {
+  return present({homing_offset, multi_turn_offset, drive_mode, moving_threshold, cw_angle_limit,
+                  ccw_angle_limit});
+}
+
 }  // namespace dxlemu::model

@@ -35,6 +35,10 @@ struct MotionItems {
 
   /// The Present values above that the model has: every item the motion model writes.
   std::vector<std::size_t> readings() const;
+  /// The settings the Present values are computed from (Homing Offset, Multi Turn Offset, Drive
+  /// Mode, Moving Threshold, the angle limits that select MX 1.0 multi-turn): a write to one
+  /// shows in them at once.
+  std::vector<std::size_t> reading_settings() const;
 };
 
 }  // namespace dxlemu::model
