@@ -95,8 +95,8 @@ std::int64_t magnitude(const ItemSpec& item, std::int64_t value) {
 struct Reading {
   const Servo& servo;
   const ItemSpec& item;
-  std::int64_t value;
-  sim::SimTime now;
+  std::int64_t value = 0;
+  sim::SimTime now{};
 };
 
 /// What a real servo reads at rest, for the items whose key matches `key`.
