@@ -7,9 +7,6 @@
 namespace dxlemu::model {
 namespace {
 
-// EX-106+ Sensed Current: 512 is 0 A, 10 mA per unit.
-constexpr std::int64_t kSensedCurrentZero = 512;
-constexpr double kSensedCurrentUnitA = 0.01;
 // MX 1.0 Goal Acceleration unit: 8.583 °/s².
 constexpr double kMx1AccelerationDegS2 = 8.583;
 constexpr double kMsPerSecond = 1000;
@@ -106,8 +103,14 @@ class JointWheelDrive final : public Drive {
     };
     motion_.put(items.present_speed, magnitude(s.velocity / p.velocity_unit));
     motion_.put(items.present_load, magnitude(s.torque_nm / p.stall_torque_nm * kV1Magnitude));
-    motion_.put(items.sensed_current,
-                kSensedCurrentZero + round_to(s.current_a / kSensedCurrentUnitA));
+    if (p.current_unit_a) {
+      // EX-106+ Sensed Current: 512 is 0 A, 10 mA per unit; MX 1.0 Current: 2048 is 0 A ("At an
+      // idle state without current flow, this value is 2,048"), 4.5 mA per unit. Both from the
+      // model file's motion block.
+      const std::int64_t current = motion_.current_reading(s.current_a);
+      motion_.put(items.sensed_current, current);
+      motion_.put(items.current, current);
+    }
     const bool running = motion_.profile_running() && motion_.torque_on();
     motion_.put(items.moving, running || round_to(s.velocity / p.velocity_unit) != 0 ? 1 : 0);
   }

@@ -39,9 +39,10 @@ constexpr std::array<std::string_view, 16> kItemFields = {
 constexpr std::array<std::string_view, 2> kBaudFields = {"index", "bps"};
 constexpr std::array<std::string_view, 5> kTimingFields = {"ping_us", "read_us", "write_us",
                                                            "write_per_byte_us", "boot_ms"};
-constexpr std::array<std::string_view, 8> kMotionFields = {
-    "degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma", "no_load_speed_rpm",
-    "stall_torque_nm",   "nominal_voltage_v", "stall_current_a", "acceleration_unit_rpm2"};
+constexpr std::array<std::string_view, 9> kMotionFields = {
+    "degrees_per_pulse", "velocity_unit_rpm",      "current_unit_ma",
+    "no_load_speed_rpm", "stall_torque_nm",        "nominal_voltage_v",
+    "stall_current_a",   "acceleration_unit_rpm2", "current_zero"};
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 
 constexpr std::int64_t kU8 = 0xFF;
@@ -324,6 +325,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.motion.nominal_voltage_v = optional_number("nominal_voltage_v");
   spec.motion.stall_current_a = optional_number("stall_current_a");
   spec.motion.acceleration_unit_rpm2 = optional_number("acceleration_unit_rpm2");
+  if (motion.has("current_zero")) {
+    spec.motion.current_zero = motion.child("current_zero").integer(0, kU32);
+  }
 
   spec.source = root.at("source").string();
   if (root.has("notes")) {

@@ -94,6 +94,10 @@ struct MotionSpec {
   std::optional<double> nominal_voltage_v;
   std::optional<double> stall_current_a;         ///< at nominal_voltage_v
   std::optional<double> acceleration_unit_rpm2;  ///< rev/min² per unit of Profile Acceleration
+  /// What the model's current reading (Present Current; MX 1.0 Current, EX-106+ Sensed Current)
+  /// shows at 0 A: 2048 on MX 1.0, 512 on EX-106+, 0 elsewhere. The reading is this plus the
+  /// current in units of current_unit_ma.
+  std::int64_t current_zero = 0;
 };
 
 /// Hashes item keys given as std::string or std::string_view alike, so that lookups by

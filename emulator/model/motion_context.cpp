@@ -35,6 +35,10 @@ std::int64_t MotionContext::present_position() const {
   return round_to(direction() * motor.state().position + homing());
 }
 
+std::int64_t MotionContext::current_reading(double amps) const {
+  return table.spec().motion.current_zero + round_to(amps / motor.params().current_unit_a.value());
+}
+
 bool MotionContext::multi_turn() const {
   const auto& limit = traits.multi_turn_angle_limit;
   return limit && get(items.cw_angle_limit) == *limit && get(items.ccw_angle_limit) == *limit;

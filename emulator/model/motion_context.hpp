@@ -76,6 +76,9 @@ struct MotionContext {
   double homing() const;
   /// Present Position as the motor's position shows: direction · position + Homing Offset.
   std::int64_t present_position() const;
+  /// What the model's current reading shows for `amps` (positive toward higher positions):
+  /// motion.current_zero plus the current in the model's current unit, which it must have.
+  std::int64_t current_reading(double amps) const;
   /// MX 1.0 multi-turn mode: both angle limits at the family's multi-turn value.
   bool multi_turn() const;
   /// PWM Limit as a fraction of the supply (1 without the item).

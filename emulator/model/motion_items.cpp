@@ -1,5 +1,7 @@
 #include "model/motion_items.hpp"
 
+#include <initializer_list>
+
 namespace dxlemu::model {
 
 MotionItems::MotionItems(const ModelSpec& s)
@@ -37,6 +39,7 @@ MotionItems::MotionItems(const ModelSpec& s)
       present_load(s.index_of("present_load")),
       present_pwm(s.index_of("present_pwm")),
       sensed_current(s.index_of("sensed_current")),
+      current(s.index_of("current")),
       velocity_trajectory(s.index_of("velocity_trajectory")),
       position_trajectory(s.index_of("position_trajectory")),
       moving(s.index_of("moving")),
@@ -49,5 +52,30 @@ MotionItems::MotionItems(const ModelSpec& s)
       ccw_compliance_margin(s.index_of("ccw_compliance_margin")),
       cw_compliance_slope(s.index_of("cw_compliance_slope")),
       ccw_compliance_slope(s.index_of("ccw_compliance_slope")) {}
+
+namespace {
+
+std::vector<std::size_t> present(std::initializer_list<std::optional<std::size_t>> items) {
+  std::vector<std::size_t> out;
+  for (const auto& item : items) {
+    if (item) {
+      out.push_back(*item);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::size_t> MotionItems::readings() const {
+  return present({present_position, present_velocity, present_speed, present_current, present_load,
+                  present_pwm, sensed_current, current, velocity_trajectory, position_trajectory,
+                  moving, moving_status, present_voltage, present_temperature, realtime_tick});
+}
+
+std::vector<std::size_t> MotionItems::reading_settings() const {
+  return present({homing_offset, multi_turn_offset, drive_mode, moving_threshold, cw_angle_limit,
+                  ccw_angle_limit});
+}
 
 }  // namespace dxlemu::model

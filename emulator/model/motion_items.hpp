@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <vector>
 
 #include "model/model_spec.hpp"
 
@@ -24,13 +25,20 @@ struct MotionItems {
   // Protection.
   std::optional<std::size_t> temperature_limit, min_voltage_limit, max_voltage_limit, shutdown,
       hardware_error_status;
-  // Present values.
+  // Present values. `current` is MX 1.0 Current(68), a reading although the page makes it RW.
   std::optional<std::size_t> present_position, present_velocity, present_speed, present_current,
-      present_load, present_pwm, sensed_current, velocity_trajectory, position_trajectory, moving,
-      moving_status, present_voltage, present_temperature, realtime_tick;
+      present_load, present_pwm, sensed_current, current, velocity_trajectory, position_trajectory,
+      moving, moving_status, present_voltage, present_temperature, realtime_tick;
   // Compliance (AX, RX, EX).
   std::optional<std::size_t> cw_compliance_margin, ccw_compliance_margin, cw_compliance_slope,
       ccw_compliance_slope;
+
+  /// The Present values above that the model has: every item the motion model writes.
+  std::vector<std::size_t> readings() const;
+  /// The settings the Present values are computed from (Homing Offset, Multi Turn Offset, Drive
+  /// Mode, Moving Threshold, the angle limits that select MX 1.0 multi-turn): a write to one
+  /// shows in them at once.
+  std::vector<std::size_t> reading_settings() const;
 };
 
 }  // namespace dxlemu::model

@@ -1,7 +1,9 @@
 #include "model/motion_model.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
+#include <vector>
 
 namespace dxlemu::model {
 namespace {
@@ -79,6 +81,17 @@ void MotionModel::install_hooks() {
       }
     });
   }
+  // A reading computed from a setting follows it on the very next read, not at the next tick:
+  // a client that writes Homing Offset and reads Present Position at once (LeRobot's
+  // calibration) sees the new offset, as on a real servo.
+  for (const std::size_t setting : items.reading_settings()) {
+    table.on_write(table.spec().items[setting].key,
+                   [this](std::size_t, std::int64_t o, std::int64_t n) {
+                     if (o != n) {
+                       on_reading_setting();
+                     }
+                   });
+  }
   protection_.install_hooks();
 }
 
@@ -152,7 +165,20 @@ void MotionModel::on_operating_mode() {
   publish();
 }
 
+void MotionModel::on_reading_setting() {
+  // The motor's state is that of the last tick; only how the table shows it changes.
+  wake();
+  publish();
+}
+
 // --- device-side changes -------------------------------------------------------------------
+
+void MotionModel::setting_forced(std::size_t item) {
+  const std::vector<std::size_t> settings = motion_.items.reading_settings();
+  if (std::find(settings.begin(), settings.end(), item) != settings.end()) {
+    on_reading_setting();
+  }
+}
 
 void MotionModel::hold() {
   wake();

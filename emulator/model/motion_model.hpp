@@ -52,6 +52,11 @@ class MotionModel {
   /// longer assume that nothing changes.
   void wake();
 
+  /// Item `item` was set device-side without its write hooks (ControlTable::set): when it is a
+  /// setting the Present values are computed from (MotionItems::reading_settings: Homing
+  /// Offset, Drive Mode, ...), they show the new value at once, as after a bus write.
+  void setting_forced(std::size_t item);
+
   /// After a reboot re-initialised the table: the shaft and the winding are where they were;
   /// the Present values say so again, Goal Position is the present position, the position is
   /// within one turn again.
@@ -78,6 +83,7 @@ class MotionModel {
   void on_goal_position(std::int64_t goal);
   void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
   void on_operating_mode();
+  void on_reading_setting();
   void run_tick();
   void cool_until(sim::SimTime now);
   DriveCommand command();

@@ -186,7 +186,7 @@ class OperatingModeDrive final : public Drive {
     const std::int64_t velocity = round_to(dir * s.velocity / p.velocity_unit);
     motion_.put(items.present_velocity, velocity);
     if (p.current_unit_a) {
-      motion_.put(items.present_current, round_to(dir * s.current_a / *p.current_unit_a));
+      motion_.put(items.present_current, motion_.current_reading(dir * s.current_a));
     } else {
       motion_.put(items.present_load,
                   round_to(dir * s.torque_nm / p.stall_torque_nm * kLoadFullScale));

@@ -27,6 +27,8 @@ void Servo::device_write(std::size_t item_index, std::int64_t value) {
     table_.bus_write(item.address, bytes, protocol);
   } else {
     table_.set(item_index, value);
+    // No hook heard it: a Homing Offset or Drive Mode forced in shows in the Present values now.
+    motion_.setting_forced(item_index);
   }
   // Present values set device-side move the shaft, the winding or the supply there.
   motion_.wake();

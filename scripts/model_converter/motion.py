@@ -1,5 +1,6 @@
 """The motion block of a model: degrees per pulse, the velocity, current and acceleration units,
-and the motor figures (the page's Specifications table, else motor_specs.py)."""
+the motor figures (the page's Specifications table, else motor_specs.py), and what the live
+readings show at rest (rest_values.py): the current reading's zero and the supply voltage."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import re
 
 from .decisions.model_fields import DEGREES_PER_PULSE, VELOCITY_UNITS
 from .decisions.motor_specs import EXTERNAL_SPECS
+from .decisions.rest_values import CURRENT_ZEROS, DEFAULT_VOLTAGE_UNIT_V, SUPPLY_NOTE, SUPPLY_SPREAD
 from .items import Draft
 from .markdown import clean_cell, tables_in, unit_number
 from .spec_table import parse_spec_table
@@ -22,6 +24,8 @@ def motion(d: Draft) -> dict:
         m["current_unit_ma"] = cur
     specs(d, m)
     acceleration_unit(d, m)
+    current_zero(d, m)
+    rest_supply(d, m)
     return m
 
 
@@ -143,3 +147,42 @@ def acceleration_unit(d: Draft, m: dict):
                         return
     d.notes.append("motion.acceleration_unit_rpm2 omitted: no rev/min² unit is stated for Profile "
                    "Acceleration")
+
+
+def current_zero(d: Draft, m: dict):
+    """current_zero: the value of an offset current reading at 0 A (CURRENT_ZEROS), which is also
+    its power-on value (the servo is at rest)."""
+    for rule in CURRENT_ZEROS:
+        item = d.by_key.get(rule.key)
+        if item is None:
+            continue
+        mt = re.search(rule.pattern, d.page.text)
+        if not mt:
+            raise ValueError(f"{d.name}: {rule.key} is offset but the page does not state its zero")
+        zero = int(mt.group(1).replace(",", ""))
+        m["current_zero"] = zero
+        d.notes.append(f"motion.current_zero: {zero}, the {item.row.name}({item.row.address}) reading at 0 A "
+                       f"({rule.source})")
+        if item.initial != zero:
+            item.notes.append(f"initial: the page shows {item.initial}; {zero} chosen, the value at rest "
+                              f"({rule.source}), which a servo powered on at rest reads")
+            item.initial = zero
+        return
+
+
+def rest_supply(d: Draft, m: dict):
+    """The power-on Present (Input) Voltage, which is the supply: the midpoint of the factory limits
+    chosen by item_rules, unless that is further than SUPPLY_SPREAD from the nominal voltage."""
+    item = d.by_key.get("present_input_voltage") or d.by_key.get("present_voltage")
+    nominal = m.get("nominal_voltage_v")
+    chosen = [n for n in (item.notes if item else []) if n.startswith("initial:") and "midpoint" in n]
+    if item is None or nominal is None or not chosen:
+        return
+    unit = unit_number(item.unit) or DEFAULT_VOLTAGE_UNIT_V
+    share = abs(item.initial * unit - nominal) / nominal
+    if share <= SUPPLY_SPREAD:
+        return
+    midpoint = f"{item.initial * unit:g} V"
+    item.initial = round(nominal / unit)
+    item.notes[item.notes.index(chosen[0])] = SUPPLY_NOTE.format(value=item.initial, volts=f"{nominal:g}",
+                                                                 midpoint=midpoint, share=share)
