@@ -9,47 +9,23 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "shipped_model.hpp"
 
 using namespace dxlemu;
-namespace fs = std::filesystem;
 using model::Servo;
 
 namespace {
 
-const fs::path kModels(DXLEMU_MODELS_DIR);
 constexpr std::int64_t kDriveModeReverse = 0x01;
 // External load that back-drives a servo with torque off: well above the 5 % of stall torque that
 // holds the shaft (docs/motion.md), below what would spin it at no-load speed.
 constexpr double kBackDriveShare = 0.5;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::shared_ptr<const model::ModelSpec>> catalog_models() {
-  std::vector<std::shared_ptr<const model::ModelSpec>> out;
-  const nlohmann::json entries =
-      nlohmann::json::parse(slurp(kModels / "catalog.json")).at("models");
-  for (const auto& entry : entries) {
-    const fs::path file = kModels / entry.at("file").get<std::string>();
-    out.push_back(
-        std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
-  }
-  return out;
-}
 
 /// One servo on a hand-advanced clock, driven by bus instructions in the protocol it speaks.
 struct Bench {
@@ -122,7 +98,7 @@ bool reverses(const model::ModelSpec& spec) {
 TEST_CASE("Present Position shows a new Homing Offset on the very next read, in every family",
           "[model][motion][settings]") {
   std::set<std::string> families;
-  for (const auto& spec : catalog_models()) {
+  for (const auto& spec : test::catalog_models()) {
     const char* offset = offset_key(*spec);
     if (offset == nullptr) {
       continue;
@@ -149,7 +125,7 @@ TEST_CASE("Present Position shows a new Homing Offset on the very next read, in 
 TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on the next read",
           "[model][motion][settings]") {
   std::set<std::string> families;
-  for (const auto& spec : catalog_models()) {
+  for (const auto& spec : test::catalog_models()) {
     if (!reverses(*spec)) {
       continue;
     }
@@ -181,9 +157,7 @@ TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on th
 
 TEST_CASE("Homing Offset through Reg Write and Action shows at once too",
           "[model][motion][settings]") {
-  const fs::path file = kModels / "xl430-w250.json";
-  Bench bench(
-      std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
+  Bench bench(test::shipped_model("xl430-w250"));
   const std::int64_t before = bench.read("present_position");
   const model::ItemSpec& homing = bench.item("homing_offset");
   REQUIRE(bench.execute(wire::RegWrite{homing.address, Bench::encode(homing, -1301)}) == 0);
@@ -194,9 +168,7 @@ TEST_CASE("Homing Offset through Reg Write and Action shows at once too",
 
 TEST_CASE("A Homing Offset forced in device-side shows in Present Position at once",
           "[model][motion][settings]") {
-  const fs::path file = kModels / "xl330-m288.json";
-  Bench bench(
-      std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
+  Bench bench(test::shipped_model("xl330-m288"));
   REQUIRE(bench.write("torque_enable", 1) == 0);  // EEPROM locked: the bus cannot write it now
   bench.wait(3);
   const std::int64_t before = bench.read("present_position");

@@ -6,28 +6,22 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/model_loader.hpp"
 #include "model/motion_items.hpp"
 #include "model/servo.hpp"
+#include "shipped_model.hpp"
 
 using namespace dxlemu;
-namespace fs = std::filesystem;
 using model::ItemSpec;
 using model::Servo;
 
 namespace {
-
-const fs::path kModels(DXLEMU_MODELS_DIR);
 
 // How long after power-on the readings are taken: a few motion ticks.
 constexpr auto kSettle = std::chrono::milliseconds(5);
@@ -43,25 +37,6 @@ constexpr double kDefaultVoltUnit = 0.1;
 constexpr std::int64_t kV1DirectionEncoded = 2047;
 constexpr std::int64_t kV1Magnitude = 1023;
 constexpr std::int64_t kRealtimeTickWrap = 32768;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::shared_ptr<const model::ModelSpec>> catalog_models() {
-  std::vector<std::shared_ptr<const model::ModelSpec>> out;
-  const nlohmann::json entries =
-      nlohmann::json::parse(slurp(kModels / "catalog.json")).at("models");
-  for (const auto& entry : entries) {
-    const fs::path file = kModels / entry.at("file").get<std::string>();
-    out.push_back(
-        std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
-  }
-  return out;
-}
 
 /// The items that are live readings: those the motion model writes, and every read-only RAM
 /// item (whatever a bus write cannot set is the device's to report).
@@ -187,7 +162,7 @@ const RestRule* rule_for(const std::string& key) {
 
 TEST_CASE("Every live reading of every model reads at rest what a real servo reads",
           "[model][motion][rest]") {
-  const auto models = catalog_models();
+  const auto models = test::catalog_models();
   REQUIRE_FALSE(models.empty());
   for (const auto& spec : models) {
     Servo servo(spec, spec->default_id);
@@ -220,9 +195,7 @@ TEST_CASE("MX 1.0 Current encodes the actual current around 2048 (4.5 mA per uni
           "[model][motion][rest]") {
   for (const char* name : {"mx-64", "mx-106"}) {
     INFO(name);
-    const fs::path file = kModels / (std::string(name) + ".json");
-    auto spec =
-        std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string()));
+    auto spec = test::shipped_model(name);
     Servo servo(spec, 1);
     servo.advance_to(sim::SimTime{kSettle});
     CHECK(servo.table().get("current") == 2048);
@@ -239,9 +212,7 @@ TEST_CASE("MX 1.0 Current encodes the actual current around 2048 (4.5 mA per uni
 }
 
 TEST_CASE("EX-106+ Sensed Current keeps its 512 zero and 10 mA unit", "[model][motion][rest]") {
-  const fs::path file = kModels / "ex-106+.json";
-  auto spec =
-      std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string()));
+  auto spec = test::shipped_model("ex-106+");
   Servo servo(spec, 1);
   servo.advance_to(sim::SimTime{kSettle});
   CHECK(servo.table().get("sensed_current") == 512);

@@ -15,6 +15,7 @@
 #include "model/control_table.hpp"
 #include "model/model_loader.hpp"
 #include "reference_page.hpp"
+#include "shipped_model.hpp"
 
 using namespace dxlemu;
 namespace fs = std::filesystem;
@@ -33,17 +34,6 @@ std::string slurp(const fs::path& path) {
 // The catalog's entries, by value: a range-for over a member of a temporary would dangle.
 nlohmann::json catalog_entries() {
   return nlohmann::json::parse(slurp(kModels / "catalog.json")).at("models");
-}
-
-std::vector<std::shared_ptr<const model::ModelSpec>> shipped_models() {
-  std::vector<std::shared_ptr<const model::ModelSpec>> out;
-  const nlohmann::json entries = catalog_entries();
-  for (const auto& entry : entries) {
-    const fs::path file = kModels / entry["file"].get<std::string>();
-    out.push_back(
-        std::make_shared<const model::ModelSpec>(model::parse_model(slurp(file), file.string())));
-  }
-  return out;
 }
 
 // Item notes of a model file by key. A model may differ from the printed table only where the
@@ -114,7 +104,7 @@ TEST_CASE("The catalog lists a model for every reference page and every one load
     }
   }
   CHECK(listed == pages);
-  const auto models = shipped_models();
+  const auto models = test::catalog_models();
   std::map<std::uint16_t, std::size_t> numbers;
   for (std::size_t i = 0; i < models.size(); ++i) {
     const auto& entry = entries[i];
@@ -137,7 +127,7 @@ TEST_CASE("Every shipped model matches its reference page row by row", "[model][
   const auto reference = test::reference_dir();
   INFO("the reference (../shared/reference beside the checkout) is needed to cross-check models");
   REQUIRE(reference);
-  for (const auto& spec : shipped_models()) {
+  for (const auto& spec : test::catalog_models()) {
     const auto page =
         test::parse_reference_page(*reference / "control-tables" / (spec->name + ".md"));
     INFO(spec->name);
@@ -196,7 +186,7 @@ TEST_CASE("Every shipped model's initial values read back through the bus as the
   const auto reference = test::reference_dir();
   INFO("the reference (../shared/reference beside the checkout) is needed to cross-check models");
   REQUIRE(reference);
-  for (const auto& spec : shipped_models()) {
+  for (const auto& spec : test::catalog_models()) {
     INFO(spec->name);
     model::ControlTable table(spec);
     for (const auto& item : spec->items) {
@@ -245,7 +235,7 @@ TEST_CASE("Every shipped model states its motor figures, each with a note naming
     INFO(field);
     CHECK((figure ? noted(spec, field) : omitted(spec, field)));
   };
-  for (const auto& spec : shipped_models()) {
+  for (const auto& spec : test::catalog_models()) {
     INFO(spec->name);
     const auto& motion = spec->motion;
     CHECK(motion.nominal_voltage_v);
@@ -257,7 +247,7 @@ TEST_CASE("Every shipped model states its motor figures, each with a note naming
     CHECK(motion.acceleration_unit_rpm2.has_value() == profile);
     CHECK(noted(*spec, "acceleration_unit_rpm2"));
   }
-  const auto by_name = [models = shipped_models()](const std::string& name) {
+  const auto by_name = [models = test::catalog_models()](const std::string& name) {
     for (const auto& spec : models) {
       if (spec->name == name) {
         return spec;
@@ -278,7 +268,7 @@ TEST_CASE("Every shipped model states its motor figures, each with a note naming
 
 TEST_CASE("Every shipped model has the items its family's drive selects modes with",
           "[model][shipped]") {
-  for (const auto& spec : shipped_models()) {
+  for (const auto& spec : test::catalog_models()) {
     INFO(spec->name << " (" << model::family_name(spec->family) << ")");
     const bool operating_mode = spec->find("operating_mode") != nullptr;
     const bool angle_limits =
