@@ -191,31 +191,16 @@ TEST_CASE("A live item without a rest rule fails the audit", "[model][motion][re
   CHECK(rule_for("present_flux_capacitance") == nullptr);
 }
 
-TEST_CASE("MX 1.0 Current encodes the actual current around 2048 (4.5 mA per unit)",
-          "[model][motion][rest]") {
-  for (const char* name : {"mx-64", "mx-106"}) {
-    INFO(name);
-    auto spec = test::shipped_model(name);
-    Servo servo(spec, 1);
-    servo.advance_to(sim::SimTime{kSettle});
-    CHECK(servo.table().get("current") == 2048);
-    // Blocked and torque on with a goal away from the shaft: the motor draws current.
-    model::Conditions blocked = servo.motion().conditions();
-    blocked.blocked = true;
-    servo.motion().set_conditions(blocked);
-    servo.device_write(servo.table().index("goal_position"), 3000);
-    servo.advance_to(sim::SimTime{std::chrono::milliseconds(200)});
-    const double amps = servo.motion().motor().current_a;
-    REQUIRE(amps > 1);
-    CHECK(servo.table().get("current") == 2048 + std::llround(amps / 0.0045));
-  }
-}
+namespace {
 
-TEST_CASE("EX-106+ Sensed Current keeps its 512 zero and 10 mA unit", "[model][motion][rest]") {
-  auto spec = test::shipped_model("ex-106+");
-  Servo servo(spec, 1);
+/// A Protocol 1.0 current item encodes the motor's current around its zero: `zero` at rest, and
+/// `zero` + amps / `amps_per_unit` once a blocked shaft with torque on makes the motor draw.
+void check_current_encoding(const char* model_name, const char* key, std::int64_t zero,
+                            double amps_per_unit) {
+  INFO(model_name << ": " << key);
+  Servo servo(test::shipped_model(model_name), 1);
   servo.advance_to(sim::SimTime{kSettle});
-  CHECK(servo.table().get("sensed_current") == 512);
+  CHECK(servo.table().get(key) == zero);
   model::Conditions blocked = servo.motion().conditions();
   blocked.blocked = true;
   servo.motion().set_conditions(blocked);
@@ -223,5 +208,18 @@ TEST_CASE("EX-106+ Sensed Current keeps its 512 zero and 10 mA unit", "[model][m
   servo.advance_to(sim::SimTime{std::chrono::milliseconds(200)});
   const double amps = servo.motion().motor().current_a;
   REQUIRE(amps > 1);
-  CHECK(servo.table().get("sensed_current") == 512 + std::llround(amps / 0.01));
+  CHECK(servo.table().get(key) == zero + std::llround(amps / amps_per_unit));
+}
+
+}  // namespace
+
+TEST_CASE("MX 1.0 Current encodes the actual current around 2048 (4.5 mA per unit)",
+          "[model][motion][rest]") {
+  for (const char* name : {"mx-64", "mx-106"}) {
+    check_current_encoding(name, "current", 2048, 0.0045);
+  }
+}
+
+TEST_CASE("EX-106+ Sensed Current keeps its 512 zero and 10 mA unit", "[model][motion][rest]") {
+  check_current_encoding("ex-106+", "sensed_current", 512, 0.01);
 }
