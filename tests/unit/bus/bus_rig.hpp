@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "bus/bus.hpp"
 #include "bus/line_timing.hpp"
@@ -52,6 +53,13 @@ inline void turn_by_hand(model::Servo& servo, double load_nm) {
 }
 
 /// The line time of `bytes` at the rig's baud rate.
+/// `v` as the 4 little-endian bytes of a Protocol 2.0 item.
+inline std::vector<std::uint8_t> le32(std::int64_t v) {
+  const auto u = static_cast<std::uint32_t>(v);
+  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8),
+          static_cast<std::uint8_t>(u >> 16), static_cast<std::uint8_t>(u >> 24)};
+}
+
 inline sim::SimDuration line(std::size_t bytes, std::uint32_t bps = BusRig::kBaud) {
   return bus::wire_time(bytes, bps);
 }

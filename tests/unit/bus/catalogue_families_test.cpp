@@ -11,16 +11,11 @@ using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
 using test::kBroadcast;
+using test::le32;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {
-
-Bytes le32(std::int64_t v) {
-  const auto u = static_cast<std::uint32_t>(v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8),
-          static_cast<std::uint8_t>(u >> 16), static_cast<std::uint8_t>(u >> 24)};
-}
 
 /// The one status the client received, as describe() prints it.
 std::string only_status(const BusRig& rig, Protocol protocol = Protocol::V2) {

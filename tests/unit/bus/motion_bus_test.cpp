@@ -10,16 +10,11 @@ using namespace dxlemu;
 using namespace std::chrono_literals;
 using test::BusRig;
 using test::kBroadcast;
+using test::le32;
 using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {
-
-Bytes le32(std::int64_t v) {
-  const auto u = static_cast<std::uint32_t>(v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8),
-          static_cast<std::uint8_t>(u >> 16), static_cast<std::uint8_t>(u >> 24)};
-}
 
 /// Three XM430-W350 on a 1 Mbps bus: profiles, a Sync Write of goals, a velocity override, a
 /// blocked servo, and a Sync Read of Present Position every 10 ms for 3 s.
