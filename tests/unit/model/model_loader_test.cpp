@@ -259,6 +259,14 @@ TEST_CASE("The loader refuses a firmware variant that repeats a firmware or does
         "count": 1}], "notes": []}])")) ==
         "/firmware_variants/0/indirect: item \"indirect_data_1\" at 59 overlaps "
         "\"present_temperature\" for firmware 7");
+  CHECK(refusal([](json& j) {
+          item(j, "goal_pwm")["limit_max"] = "indirect_address_3";
+          j["firmware_variants"] = json::parse(
+              R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44, "count": 2}],
+                   "notes": []}])");
+        }) ==
+        "/firmware_variants/0/indirect: \"goal_pwm\" names \"indirect_address_3\", which "
+        "firmware 7 does not have");
   CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [], "notes": []}])")) ==
         "/firmware_variants/0/indirect: must list at least one block");
   CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44,
