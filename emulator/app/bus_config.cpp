@@ -148,7 +148,7 @@ class ConfigParser {
     const std::string name = string(member(value, at, "model"), at + "/model");
     const auto spec = library_.find(name);
     if (!spec) {
-      fail(at + "/model", "unknown model \"" + name + "\" (dxlemu models lists them)");
+      fail(at + "/model", library_.why_not_found(name));
     }
     std::vector<std::uint8_t> ids;
     if (value.contains("id") == value.contains("ids")) {
@@ -262,7 +262,7 @@ std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::M
 void check_servo(const ServoConfig& servo, const ModelLibrary& library) {
   const auto spec = library.find(servo.model);
   if (!spec) {
-    throw std::invalid_argument("unknown model \"" + servo.model + "\" (dxlemu models lists them)");
+    throw std::invalid_argument(library.why_not_found(servo.model));
   }
   for (const auto& [key, value] : servo.items) {
     const model::ItemSpec* item = spec->find(key);

@@ -74,7 +74,8 @@ void add_bus_options(CLI::App& run, CommandLine& line) {
   auto* servo_option =
       run.add_option(
              "--servo", line.servo_options,
-             "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); default " +
+             "A servo NAME:ID or a range NAME:FIRST-LAST on port dxl0 (repeatable); NAME may "
+             "name a firmware, NAME@FIRMWARE (dxlemu models lists them); default " +
                  std::string(kDefaultServos))
           ->type_name("NAME:ID");
   auto* link_option =

@@ -21,7 +21,8 @@ namespace {
 // Exit status for refused input (bad model file, bad config), as documented in README.md.
 constexpr int kExitBadInput = 2;
 
-// "NAME:ID" or "NAME:FIRST-LAST" (model names may contain ':'-free punctuation such as '+').
+// "NAME:ID" or "NAME:FIRST-LAST" (model names may contain ':'-free punctuation such as '+'); NAME
+// may carry a firmware, "xl330-m288@52", which the library resolves.
 std::vector<dxlemu::app::ServoConfig> parse_servo_option(const std::string& text) {
   const auto colon = text.rfind(':');
   if (colon == std::string::npos || colon == 0) {
@@ -230,6 +231,12 @@ void list_models(const std::vector<std::string>& model_dirs,
   for (const auto& spec : listed) {
     std::cout << std::setw(18) << spec->name << std::setw(8) << spec->model_number << std::setw(10)
               << protocols_text(*spec) << dxlemu::model::family_name(spec->family) << "\n";
+    // Its other firmware, by the name --servo and a config take (NAME@FIRMWARE).
+    for (const auto& variant : library.variants_of(spec->name)) {
+      std::cout << std::setw(18) << variant->name << std::setw(8) << variant->model_number
+                << std::setw(10) << protocols_text(*variant)
+                << dxlemu::model::family_name(variant->family) << "\n";
+    }
   }
 }
 

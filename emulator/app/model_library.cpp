@@ -79,6 +79,14 @@ ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
       library.add(std::move(spec), file.string());
     }
   }
+  for (const auto& [name, spec] : library.models_) {
+    for (const model::FirmwareVariant& variant : spec->firmware_variants) {
+      auto built = std::make_shared<const model::ModelSpec>(
+          *model::model_for_firmware(*spec, variant.firmware_version, library.origins_[name]));
+      std::string key = built->name;  // read before the pointer is moved into the map
+      library.variants_.emplace(std::move(key), std::move(built));
+    }
+  }
   return library;
 }
 
@@ -102,8 +110,50 @@ void ModelLibrary::add(std::shared_ptr<const model::ModelSpec> spec, const std::
 }
 
 std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& name) const {
-  const auto it = models_.find(name);
-  return it == models_.end() ? nullptr : it->second;
+  if (const auto it = models_.find(name); it != models_.end()) {
+    return it->second;
+  }
+  if (const auto it = variants_.find(name); it != variants_.end()) {
+    return it->second;
+  }
+  // NAME@VERSION of the model's own (default) firmware is the model itself.
+  const auto at = name.rfind('@');
+  if (at == std::string::npos) {
+    return nullptr;
+  }
+  const auto base = models_.find(name.substr(0, at));
+  if (base != models_.end() &&
+      std::to_string(base->second->firmware_version) == name.substr(at + 1)) {
+    return base->second;
+  }
+  return nullptr;
+}
+
+std::string ModelLibrary::why_not_found(const std::string& name) const {
+  const auto at = name.rfind('@');
+  if (at != std::string::npos) {
+    const auto base = models_.find(name.substr(0, at));
+    if (base != models_.end()) {
+      return base->first + " has no firmware \"" + name.substr(at + 1) +
+             "\" (known: " + model::firmware_list(*base->second) + ")";
+    }
+  }
+  return "unknown model \"" + name + "\" (dxlemu models lists them)";
+}
+
+std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::variants_of(
+    const std::string& name) const {
+  std::vector<std::shared_ptr<const model::ModelSpec>> out;
+  const auto base = models_.find(name);
+  if (base == models_.end()) {
+    return out;
+  }
+  for (const model::FirmwareVariant& v : base->second->firmware_variants) {
+    out.push_back(variants_.at(name + "@" + std::to_string(v.firmware_version)));
+  }
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a->firmware_version > b->firmware_version; });
+  return out;
 }
 
 std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number) const {

@@ -34,8 +34,15 @@ class ModelLibrary {
   static ModelLibrary load(const std::filesystem::path& shipped_dir,
                            const std::vector<std::filesystem::path>& extra_dirs);
 
-  /// The model named `name` ("xm430-w350"), or nullptr.
+  /// The model named `name` ("xm430-w350"), or with a firmware ("xl330-m288@52": the model running
+  /// that firmware, model::model_for_firmware), or nullptr.
   std::shared_ptr<const model::ModelSpec> find(const std::string& name) const;
+  /// Why find(`name`) found nothing, for an error message: an unknown model, or a firmware the
+  /// model does not have (naming the ones it has).
+  std::string why_not_found(const std::string& name) const;
+  /// The firmware variants of the model `name` ("xl330-m288@52"...), by version, highest first;
+  /// empty for a model with one firmware.
+  std::vector<std::shared_ptr<const model::ModelSpec>> variants_of(const std::string& name) const;
   /// The model whose Model Number is `number` (of models sharing one, the one that declares no
   /// shares_model_number_with), or nullptr.
   std::shared_ptr<const model::ModelSpec> find(std::uint16_t number) const;
@@ -51,6 +58,9 @@ class ModelLibrary {
 
   std::map<std::string, std::shared_ptr<const model::ModelSpec>> models_;
   std::map<std::string, std::string> origins_;
+  /// "NAME@VERSION" -> the model running that firmware: built once, after every file is read (a
+  /// user's file may replace a shipped model and its variants with it).
+  std::map<std::string, std::shared_ptr<const model::ModelSpec>> variants_;
 };
 
 /// The directory of the shipped models, the first of: $DXLEMU_MODELS_DIR when set and not empty;

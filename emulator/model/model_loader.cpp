@@ -4,6 +4,7 @@
 #include <array>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <utility>
 
 #include "model/json_node.hpp"
@@ -13,7 +14,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 20> kModelFields = {"$schema",
+constexpr std::array<std::string_view, 21> kModelFields = {"$schema",
                                                            "name",
                                                            "title",
                                                            "model_number",
@@ -28,6 +29,7 @@ constexpr std::array<std::string_view, 20> kModelFields = {"$schema",
                                                            "timing",
                                                            "motion",
                                                            "indirect",
+                                                           "firmware_variants",
                                                            "axes",
                                                            "shared_items",
                                                            "source",
@@ -44,6 +46,8 @@ constexpr std::array<std::string_view, 9> kMotionFields = {
     "no_load_speed_rpm", "stall_torque_nm",        "nominal_voltage_v",
     "stall_current_a",   "acceleration_unit_rpm2", "current_zero"};
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
+constexpr std::array<std::string_view, 3> kVariantFields = {"firmware_version", "indirect",
+                                                            "notes"};
 
 constexpr std::int64_t kU8 = 0xFF;
 constexpr std::int64_t kU16 = 0xFFFF;
@@ -253,7 +257,181 @@ void check_indirect(const JsonNode& n, const ModelSpec& spec) {
   }
 }
 
+std::vector<IndirectBlock> read_indirect(const JsonNode& blocks) {
+  std::vector<IndirectBlock> out;
+  for (std::size_t i = 0, n = blocks.array_size(); i < n; ++i) {
+    const JsonNode b = blocks.at(i);
+    b.expect_object(kIndirectFields);
+    out.push_back({static_cast<std::uint16_t>(b.at("address").integer(0, kU16)),
+                   static_cast<std::uint16_t>(b.at("data").integer(0, kU16)),
+                   static_cast<std::uint16_t>(b.at("count").integer(1, kU16))});
+  }
+  if (out.empty()) {
+    blocks.fail("must list at least one block");
+  }
+  return out;
+}
+
+// One past the last Indirect Data address of `blocks`.
+std::int64_t data_end(const std::vector<IndirectBlock>& blocks) {
+  std::int64_t end = 0;
+  for (const IndirectBlock& b : blocks) {
+    end = std::max<std::int64_t>(end, b.data + b.count);
+  }
+  return end;
+}
+
 }  // namespace
+
+std::optional<ModelSpec> model_for_firmware(const ModelSpec& base, std::uint8_t version,
+                                            const std::string& origin) {
+  if (version == base.firmware_version) {
+    return base;
+  }
+  const auto variant =
+      std::find_if(base.firmware_variants.begin(), base.firmware_variants.end(),
+                   [&](const FirmwareVariant& v) { return v.firmware_version == version; });
+  if (variant == base.firmware_variants.end()) {
+    return std::nullopt;
+  }
+  const std::string at = "/firmware_variants/" +
+                         std::to_string(variant - base.firmware_variants.begin()) + "/indirect";
+  if (base.indirect.empty()) {
+    throw ModelError(origin, at, "replaces indirect blocks, but the model has none");
+  }
+  // The first pair of the model's own blocks is the pattern of every rebuilt pair: same access,
+  // area and range; an address item's initial points at its Data item as the model's does.
+  const ItemSpec* address_item = nullptr;
+  const ItemSpec* data_item = nullptr;
+  std::set<std::uint16_t> dropped;
+  for (const IndirectBlock& b : base.indirect) {
+    for (std::uint16_t i = 0; i < b.count; ++i) {
+      dropped.insert(static_cast<std::uint16_t>(b.address + 2 * i));
+      dropped.insert(static_cast<std::uint16_t>(b.data + i));
+    }
+  }
+  for (const ItemSpec& item : base.items) {
+    if (item.address == base.indirect.front().address) {
+      address_item = &item;
+    } else if (item.address == base.indirect.front().data) {
+      data_item = &item;
+    }
+  }
+  // check_indirect() makes sure both exist when a file is loaded; a spec built otherwise may lack
+  // them.
+  if (address_item == nullptr || data_item == nullptr) {
+    throw ModelError(origin, at, "the model's first indirect block has no items to copy");
+  }
+  const std::int64_t points_past = address_item->initial - base.indirect.front().data;
+  const std::int64_t old_end = data_end(base.indirect);
+  const std::int64_t new_end = data_end(variant->indirect);
+
+  // Bounds and initial_from are indices into `items`; rebuilding moves them, so they are kept by
+  // key and resolved again in the new order.
+  auto key_of = [&](std::size_t index) { return base.items[index].key; };
+  struct Kept {
+    ItemSpec spec;
+    std::optional<std::string> initial_from, limit_min, limit_max;
+  };
+  std::vector<Kept> kept;
+  for (const ItemSpec& item : base.items) {
+    if (dropped.count(item.address) != 0) {
+      continue;
+    }
+    Kept k{item, {}, {}, {}};
+    if (item.initial_from) {
+      k.initial_from = key_of(*item.initial_from);
+    }
+    if (item.limit_min) {
+      k.limit_min = key_of(item.limit_min->item);
+    }
+    if (item.limit_max) {
+      k.limit_max = key_of(item.limit_max->item);
+    }
+    if (k.spec.key == "firmware_version") {
+      k.spec.initial = version;
+    }
+    kept.push_back(std::move(k));
+  }
+  std::size_t n = 1;
+  for (const IndirectBlock& b : variant->indirect) {
+    for (std::uint16_t i = 0; i < b.count; ++i, ++n) {
+      ItemSpec a = *address_item;
+      a.key = "indirect_address_" + std::to_string(n);
+      a.name = "Indirect Address " + std::to_string(n);
+      a.address = static_cast<std::uint16_t>(b.address + 2 * i);
+      a.initial = b.data + i + points_past;
+      // The range of an Indirect Address ends at the table's last Data byte, which moves with it.
+      if (a.max == old_end - 1) {
+        a.max = new_end - 1;
+      }
+      ItemSpec d = *data_item;
+      d.key = "indirect_data_" + std::to_string(n);
+      d.name = "Indirect Data " + std::to_string(n);
+      d.address = static_cast<std::uint16_t>(b.data + i);
+      kept.push_back({std::move(a), {}, {}, {}});
+      kept.push_back({std::move(d), {}, {}, {}});
+    }
+  }
+  std::stable_sort(kept.begin(), kept.end(),
+                   [](const Kept& x, const Kept& y) { return x.spec.address < y.spec.address; });
+  for (std::size_t i = 0; i + 1 < kept.size(); ++i) {
+    if (kept[i].spec.end() > kept[i + 1].spec.address) {
+      throw ModelError(origin, at,
+                       "item \"" + kept[i + 1].spec.key + "\" at " +
+                           std::to_string(kept[i + 1].spec.address) + " overlaps \"" +
+                           kept[i].spec.key + "\" for firmware " + std::to_string(version));
+    }
+  }
+  ModelSpec spec = base;
+  spec.name = base.name + "@" + std::to_string(version);
+  spec.firmware_version = version;
+  spec.indirect = variant->indirect;
+  spec.firmware_variants.clear();
+  spec.notes.insert(spec.notes.end(), variant->notes.begin(), variant->notes.end());
+  spec.items.clear();
+  for (const Kept& k : kept) {
+    spec.items.push_back(k.spec);
+  }
+  spec.index_items();
+  // An item bounded by (or starting from) an Indirect item the variant dropped has nothing left to
+  // follow: refused rather than left pointing at another item.
+  auto index_of = [&](const std::string& item_key, const std::string& of) {
+    const auto index = spec.index_of(item_key);
+    if (!index) {
+      throw ModelError(origin, at,
+                       "\"" + of + "\" names \"" + item_key + "\", which firmware " +
+                           std::to_string(version) + " does not have");
+    }
+    return *index;
+  };
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    ItemSpec& item = spec.items[i];
+    if (kept[i].initial_from) {
+      item.initial_from = index_of(*kept[i].initial_from, item.key);
+    }
+    if (kept[i].limit_min) {
+      item.limit_min->item = index_of(*kept[i].limit_min, item.key);
+    }
+    if (kept[i].limit_max) {
+      item.limit_max->item = index_of(*kept[i].limit_max, item.key);
+    }
+    if (!item.in_range(item.initial)) {
+      throw ModelError(origin, at,
+                       "\"" + item.key + "\" would start at " + std::to_string(item.initial) +
+                           ", outside its range, for firmware " + std::to_string(version));
+    }
+  }
+  return spec;
+}
+
+std::string firmware_list(const ModelSpec& spec) {
+  std::string out = std::to_string(spec.firmware_version);
+  for (const FirmwareVariant& v : spec.firmware_variants) {
+    out += ", " + std::to_string(v.firmware_version);
+  }
+  return out;
+}
 
 ModelSpec model_from_json(const json& document, const std::string& origin) {
   const JsonNode root(document, "", origin);
@@ -346,13 +524,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
 
   if (root.has("indirect")) {
     const JsonNode blocks = root.child("indirect");
-    for (std::size_t i = 0, n = blocks.array_size(); i < n; ++i) {
-      const JsonNode b = blocks.at(i);
-      b.expect_object(kIndirectFields);
-      spec.indirect.push_back({static_cast<std::uint16_t>(b.at("address").integer(0, kU16)),
-                               static_cast<std::uint16_t>(b.at("data").integer(0, kU16)),
-                               static_cast<std::uint16_t>(b.at("count").integer(1, kU16))});
-    }
+    spec.indirect = read_indirect(blocks);
     check_indirect(blocks, spec);
   }
   if (root.has("axes")) {
@@ -365,6 +537,34 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
       if (!spec.find(spec.shared_items[i])) {
         shared.at(i).fail("names an unknown item \"" + spec.shared_items[i] + "\"");
       }
+    }
+  }
+  if (root.has("firmware_variants")) {
+    const JsonNode variants = root.child("firmware_variants");
+    for (std::size_t i = 0, n = variants.array_size(); i < n; ++i) {
+      const JsonNode v = variants.at(i);
+      v.expect_object(kVariantFields);
+      FirmwareVariant variant;
+      variant.firmware_version =
+          static_cast<std::uint8_t>(v.at("firmware_version").integer(0, kU8));
+      if (variant.firmware_version == spec.firmware_version ||
+          std::any_of(spec.firmware_variants.begin(), spec.firmware_variants.end(),
+                      [&](const FirmwareVariant& other) {
+                        return other.firmware_version == variant.firmware_version;
+                      })) {
+        v.at("firmware_version")
+            .fail("lists firmware " + std::to_string(variant.firmware_version) + " twice");
+      }
+      if (!root.has("indirect")) {
+        v.fail("replaces indirect blocks, but the model has no \"indirect\"");
+      }
+      variant.indirect = read_indirect(v.at("indirect"));
+      variant.notes = v.at("notes").strings();
+      spec.firmware_variants.push_back(std::move(variant));
+    }
+    // Built once here so that a variant whose items do not fit is refused with its file.
+    for (const FirmwareVariant& variant : spec.firmware_variants) {
+      model_for_firmware(spec, variant.firmware_version, origin);
     }
   }
   return spec;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -18,6 +19,18 @@ namespace dxlemu::model {
 /// range, a bound naming an unknown item, a default baud index not in the table, an indirect
 /// block that does not match its items.
 ModelSpec parse_model(std::string_view json_text, const std::string& origin);
+
+/// `base` running firmware `version`: `base` itself for its own firmware_version, else the
+/// variant of firmware_variants with that version, named "NAME@VERSION": its Firmware Version
+/// reads `version`, its indirect blocks are the variant's and its Indirect Address/Data items are
+/// rebuilt for them from the first pair of `base` (docs/model-format.md). Returns nullopt for a
+/// version the model does not list; throws ModelError (naming `origin`) when the rebuilt items
+/// overlap the rest of the table.
+std::optional<ModelSpec> model_for_firmware(const ModelSpec& base, std::uint8_t version,
+                                            const std::string& origin = {});
+
+/// The firmware versions `spec` can run, its default first, as "53, 52".
+std::string firmware_list(const ModelSpec& spec);
 
 /// The top-level fields a model file may have (docs/model-format.md). The JSON Schema in
 /// models/schema/ declares the same; a test keeps the two in step.

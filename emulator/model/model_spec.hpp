@@ -67,6 +67,16 @@ struct IndirectBlock {
   std::uint16_t count = 0;
 };
 
+/// Another firmware of the same model whose control table differs (the XL330/XC330 pages: "Firmware
+/// versions prior to V53 support up to 20 Indirect Address/Data items"). It states only what
+/// differs; everything else is the model's. model_for_firmware() (model_loader.hpp) builds it.
+struct FirmwareVariant {
+  std::uint8_t firmware_version = 0;
+  /// Replaces ModelSpec::indirect, and with it the Indirect Address/Data items.
+  std::vector<IndirectBlock> indirect;
+  std::vector<std::string> notes;  ///< why it exists and what it changes, citing the page
+};
+
 /// One Baud Rate item value and the bit rate it selects.
 struct BaudRate {
   std::int64_t index = 0;
@@ -125,6 +135,8 @@ struct ModelSpec {
   Timing timing;
   MotionSpec motion;
   std::vector<IndirectBlock> indirect;
+  /// The other firmware it may run, besides firmware_version (the default: what a buyer gets).
+  std::vector<FirmwareVariant> firmware_variants;
   std::uint8_t axes = 1;
   std::vector<std::string> shared_items;
   std::string source;

@@ -7,8 +7,9 @@ import re
 
 from . import motion
 from .decisions.model_fields import (BAUD_FORMULA_FAMILIES, BAUD_FORMULA_NOTE, BOOT_MS, BOOT_NOTE, DEFAULT_ID,
-                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, PROTOCOLS, SHARED_MODEL_NUMBERS,
-                                     RETURN_DELAY_NOTE, RETURN_DELAY_UNIT_US, TIMING)
+                                     DUAL_AXIS, EXTERNAL_BAUD, FIRMWARE, INDIRECT_BLOCKS, OLDER_FIRMWARE_NOTE, PROTOCOLS,
+                                     SHARED_MODEL_NUMBERS, RETURN_DELAY_NOTE, RETURN_DELAY_UNIT_US, TIMING)
+from .firmware import firmware_needs, older_indirect
 from .item_builder import build_items
 from .items import Draft
 from .markdown import clean_cell, parse_bps, tables_in
@@ -47,6 +48,9 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
     ind = indirect(d)
     if ind:
         model["indirect"] = ind
+    variants = firmware_variants(d, fw)
+    if variants:
+        model["firmware_variants"] = variants
     if dual:
         model["axes"] = 2
         model["shared_items"] = list(dual.shared_items)
@@ -118,6 +122,40 @@ def indirect(d: Draft) -> list[dict] | None:
         f"Indirect Address {f} ~ {l} at {a} ~ {a + 2 * (l - f)}, Data at {data} ~ {data + (l - f)}"
         for f, l, a, data in blocks) + " (elided rows expanded; counts match the page and README)")
     return out
+
+
+def check_firmware(d: Draft, fw: int) -> None:
+    """Refuses a firmware below a version the page asks for an item the model has."""
+    for need in firmware_needs(d.ref, d.page):
+        if need.version > fw and any(a in d.by_addr for a in need.addresses):
+            raise ValueError(f"{d.name}: firmware_version {fw} is below v{need.version}, which {need.section} "
+                             f"needs ('{need.quote}')")
+    older = older_indirect(d.page)
+    if older and fw < older.before:
+        raise ValueError(f"{d.name}: firmware_version {fw} serves the Indirect blocks of V{older.before} or later "
+                         f"('{older.quote}')")
+
+
+def firmware_variants(d: Draft, fw: int) -> list[dict] | None:
+    """The older firmware the page's note describes (firmware.older_indirect), as a variant of the
+    model: its version and its Indirect blocks, the only part of the table that differs."""
+    check_firmware(d, fw)
+    older = older_indirect(d.page)
+    if older is None:
+        return None
+    version = older.before - 1
+    for need in firmware_needs(d.ref, d.page):
+        if need.version > version and any(a in d.by_addr for a in need.addresses):
+            raise ValueError(f"{d.name}: the firmware {version} variant lacks {need.section} ('{need.quote}')")
+    first = d.by_key.get("indirect_address_1")
+    if first is None or first.row.address != older.address:
+        raise ValueError(f"{d.name}: the older Indirect blocks start at {older.address}, the table's do not")
+    note = OLDER_FIRMWARE_NOTE.format(version=version, quote=older.quote, before=older.before, count=older.count,
+                                      address=older.address, address_end=older.address + 2 * older.count - 1,
+                                      data=older.data, data_end=older.data + older.count - 1)
+    return [{"firmware_version": version,
+             "indirect": [{"address": older.address, "data": older.data, "count": older.count}],
+             "notes": [note]}]
 
 
 def protocols(d: Draft) -> list[int]:

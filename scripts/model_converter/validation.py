@@ -35,6 +35,15 @@ def validate(model: dict) -> None:
     need(0 <= model["model_number"] <= 65535, "model_number out of 0 ~ 65535")
     need(0 <= model["firmware_version"] <= 255, "firmware_version out of 0 ~ 255")
     need(model["protocols"] and set(model["protocols"]) <= {1, 2}, "protocols")
+    seen = {model["firmware_version"]}
+    for v in model.get("firmware_variants", []):
+        need(set(v) <= {"firmware_version", "indirect", "notes"}, f"firmware_variants: unknown fields {set(v)}")
+        need(isinstance(v.get("firmware_version"), int) and 0 <= v["firmware_version"] <= 255,
+             "firmware_variants: firmware_version out of 0 ~ 255")
+        need(v["firmware_version"] not in seen, f"firmware_variants: firmware {v['firmware_version']} twice")
+        seen.add(v["firmware_version"])
+        need("indirect" in model and isinstance(v.get("indirect"), list) and v["indirect"],
+             "firmware_variants: indirect must replace the model's indirect blocks")
     idx = [b["index"] for b in model["baud_rates"]]
     need(len(idx) == len(set(idx)), "duplicate baud index")
     need(model["default_baud_index"] in idx, "default baud index not in baud_rates")

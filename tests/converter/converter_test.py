@@ -11,13 +11,15 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 
-from model_converter import item_builder, item_ranges  # noqa: E402
+import json  # noqa: E402
+
+from model_converter import builder, firmware, item_builder, item_ranges  # noqa: E402
 from model_converter.decisions import catalogue, item_rules, model_fields, motor_specs  # noqa: E402
 from model_converter.items import Draft  # noqa: E402
 from model_converter.markdown import (camel_to_include, clean_cell, clean_unit, parse_bps, parse_int,  # noqa: E402
                                       select_liquid_branch, snake_key, tables_in, unit_number)
 from model_converter.page import description_sections, expand_ellipses, map_columns, read_page  # noqa: E402
-from model_converter.decisions.catalogue import lineage  # noqa: E402
+from model_converter.decisions.catalogue import CONVERTED_PAGES, classify, lineage  # noqa: E402
 from model_converter.ranges import evidence_found, find_choice, full_width, parse_range, rc  # noqa: E402
 from model_converter.reference import Reference  # noqa: E402
 from model_converter.spec_table import parse_spec_table  # noqa: E402
@@ -447,6 +449,107 @@ class MotorSpecsTest(unittest.TestCase):
         y_spec = specs["ym080-230-a099-rh"]
         self.assertEqual((y_spec.rpm, y_spec.volts), (32.2, 24.0))
         self.assertIn("maximumtorque '61.4 [N.m]'", y_spec.missing)
+
+
+class FirmwareTest(unittest.TestCase):
+    """What a page says about firmware: the versions its items need, and the older firmware whose
+    Indirect blocks differ (firmware.py), against the model's firmware_version (builder.py)."""
+
+    EEPROM = "| 6 | 1 | Firmware Version | R | - | - | - |\n"
+    RAM = ("| 50 | 2 | Realtime Tick | R | - | 0 ~ 32,767 | - |\n"
+           "| 168 | 2 | Indirect Address 1 | RW | 224 | 64 ~ 227 | - |\n"
+           "| 224 | 1 | Indirect Data 1 | RW | 0 | 0 ~ 255 | - |\n")
+    OLDER = ("**NOTE** : Firmware versions prior to V53 support up to 20 Indirect Address/Data items. The "
+             "address range for Indirect Address is 168 ~ 207, and for Indirect Data is 208 ~ 227.\n\n")
+
+    def draft(self, descriptions, group="xl330", includes=None, before=""):
+        text = page_text(self.EEPROM, self.RAM, descriptions).replace("## Control Table Description",
+                                                                      before + "## Control Table Description")
+        tmp = TempReference({"test-1": text}, includes)
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "x", group), {})
+        item_builder.make_items(d)
+        return d
+
+    def test_an_item_documented_from_a_firmware_needs_that_firmware(self):
+        d = self.draft("### Realtime-Tick (50)\ntext\n\n**NOTE** : This feature is available from Firmware v41.\n")
+        (need,) = firmware.firmware_needs(d.ref, d.page)
+        self.assertEqual((need.version, need.section, need.addresses), (41, "Realtime-Tick (50)", (50,)))
+        self.assertIn("available from Firmware v41", need.quote)
+        with self.assertRaisesRegex(ValueError, r"firmware_version 40 is below v41, which Realtime-Tick \(50\) needs"):
+            builder.check_firmware(d, 40)
+        builder.check_firmware(d, 41)
+
+    def test_include_versions_follow_the_product_group_at_every_level_and_table_rows_name_others(self):
+        include = ('{% if page.product_group == \'xl330\' %}{% assign v = "firmware **V46**" %}{% else %}'
+                   '{% assign v = "firmware **V45**" %}{% endif %}\nTick is available from {{ v }}.\n'
+                   "{% if page.product_group=='dxl_x430' %}a{% else %}b {% if page.product_group=='xl330' %}"
+                   "{% else %}(**Firmware v49 or above**){% endif %}{% endif %}\n"
+                   "| 2 | Protocol 2.0 | MX with Firmware v39 or above |\n")
+        descriptions = "### Realtime-Tick (50)\n<ControlTableRealtimeTick />\n"
+        needs = firmware.firmware_needs(*(lambda d: (d.ref, d.page))(
+            self.draft(descriptions, "xl330", {"control_table_realtime_tick": include})))
+        self.assertEqual([n.version for n in needs], [46])
+        needs = firmware.firmware_needs(*(lambda d: (d.ref, d.page))(
+            self.draft(descriptions, "xc330", {"control_table_realtime_tick": include})))
+        self.assertEqual([n.version for n in needs], [45, 49])
+
+    def test_a_need_of_an_item_the_model_lacks_does_not_count(self):
+        d = self.draft("### Bus Watchdog(98)\nBus Watchdog (98) is available from firmware v60.\n")
+        builder.check_firmware(d, 1)
+
+    def test_the_older_indirect_note_becomes_a_variant_and_raises_the_default(self):
+        d = self.draft("", before=self.OLDER)
+        older = firmware.older_indirect(d.page)
+        self.assertEqual((older.before, older.count, older.address, older.data), (53, 20, 168, 208))
+        (variant,) = builder.firmware_variants(d, 53)
+        self.assertEqual(variant["firmware_version"], 52)
+        self.assertEqual(variant["indirect"], [{"address": 168, "data": 208, "count": 20}])
+        self.assertIn("Firmware versions prior to V53 support up to 20", variant["notes"][0])
+        with self.assertRaisesRegex(ValueError, "firmware_version 46 serves the Indirect blocks of V53 or later"):
+            builder.firmware_variants(d, 46)
+        self.assertIsNone(builder.firmware_variants(self.draft(""), 46))
+
+    def test_an_older_indirect_note_whose_ranges_do_not_hold_its_count_is_refused(self):
+        d = self.draft("", before=self.OLDER.replace("208 ~ 227", "208 ~ 230"))
+        with self.assertRaisesRegex(ValueError, "do not hold 20 items"):
+            firmware.older_indirect(d.page)
+
+
+REFERENCE = ROOT.parent / "shared" / "reference"
+
+
+@unittest.skipUnless((REFERENCE / "control-tables").is_dir(), "needs ../shared/reference")
+class ShippedFirmwareTest(unittest.TestCase):
+    """Every shipped model's firmware against its page: no item is served by a firmware older than
+    the page says it needs, and the X330 pages' older Indirect layout is a variant."""
+
+    def test_no_model_reports_a_firmware_below_what_its_page_requires_for_an_item_it_has(self):
+        ref = Reference(REFERENCE)
+        for name in CONVERTED_PAGES:
+            with self.subTest(name):
+                model = json.loads((ROOT / "models" / f"{name}.json").read_text(encoding="utf-8"))
+                page = read_page(ref, name, *classify(name))
+                addresses = {i["address"] for i in model["items"]}
+                versions = [model["firmware_version"]] + [v["firmware_version"]
+                                                          for v in model.get("firmware_variants", [])]
+                for need in firmware.firmware_needs(ref, page):
+                    if addresses & set(need.addresses):
+                        for version in versions:
+                            self.assertGreaterEqual(version, need.version,
+                                                    f"{name} firmware {version}: {need.section}: '{need.quote}'")
+                older = firmware.older_indirect(page)
+                if older:
+                    self.assertGreaterEqual(model["firmware_version"], older.before, older.quote)
+                    self.assertEqual([v["firmware_version"] for v in model["firmware_variants"]], [older.before - 1])
+                else:
+                    self.assertNotIn("firmware_variants", model)
+
+    def test_the_pages_with_the_v53_note_are_the_xl330_and_xc330_pages_and_not_xm335(self):
+        ref = Reference(REFERENCE)
+        with_note = [n for n in CONVERTED_PAGES if firmware.older_indirect(read_page(ref, n, *classify(n)))]
+        self.assertEqual(with_note, ["xc330-m181", "xc330-m288", "xc330-t181", "xc330-t288", "xl330-m077",
+                                     "xl330-m288"])
 
 
 if __name__ == "__main__":

@@ -2,7 +2,9 @@
 
 For every model both know: the model number is dynamixel.model's, and every item an SDK file
 names has the same address and size in the model (sdk_pairing.py says which file each model's
-firmware is compared with, sdk_names.py which item an SDK name stands for). A difference fails
+firmware is compared with, sdk_names.py which item an SDK name stands for); each `_fwNN` table
+(xl330_m288_fw52.model) of a model is compared with the model's firmware variant for NN, and one
+the model has no variant for fails. A difference fails
 unless a `sdk-control-tables:` note of the model explains it (sdk_notes.py). Prints what was
 compared and a summary; exits 1 on any unexplained difference or when the reference is missing.
 
@@ -52,6 +54,11 @@ def run(reference: Path, models_dir: Path, out, verbose: bool = False) -> int:
         print(f"FAIL: {e}", file=out)
         return 1
     pairing = pair(registry, files, models)
+    # A firmware table whose model pairs is the layout a servo reporting that firmware has: the
+    # model must have the variant, or a client that reads its firmware gets another table.
+    for file, why in pairing.not_compared:
+        if files[file].last_firmware is not None and files[file].base_file in pairing.pairs:
+            pairing.errors.append(f"{file}: {why}")
     result = check(pairing.comparisons, reference / "control-tables", models)
     report(pairing, result, len({f.base_file for f in files.values()}), len(models), out, verbose)
     failed = result.unexplained or result.note_errors or pairing.errors

@@ -432,6 +432,22 @@ class RunTest(unittest.TestCase):
         self.assertEqual(code, 0, text)
         self.assertIn("1 explained differences, 0 unexplained", text)
 
+    def test_a_firmware_table_fails_until_the_model_has_its_variant(self):
+        sdk = self.reference / "sdk-control-tables"
+        (sdk / "a_1.model").write_text(sdk_text(X330_ROWS), encoding="utf-8")
+        (sdk / "a_1_fw52.model").write_text(sdk_text(FW52_ROWS), encoding="utf-8")
+        self.write_models(model_doc("a-1", 1, x330_items(), firmware=53))
+        code, text = self.run_check()
+        self.assertEqual(code, 1, text)
+        self.assertIn("Pairing errors (1):\n  a_1_fw52.model: no variant (a-1 has no firmware variant 52 or older)",
+                      text)
+        self.write_models(model_doc("a-1", 1, x330_items(), firmware=53,
+                                    variants=[{"firmware_version": 52, "indirect": FW52_INDIRECT,
+                                               "notes": ["older"]}]))
+        code, text = self.run_check()
+        self.assertEqual(code, 0, text)
+        self.assertIn("2 comparisons", text)
+
     def test_a_missing_reference_fails_saying_so(self):
         self.write_models(model_doc("a-1", 1, BASIC_ITEMS))
         out = io.StringIO()

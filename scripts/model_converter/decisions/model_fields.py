@@ -13,23 +13,51 @@ from fractions import Fraction
 from . import EMANUAL_INCLUDES
 
 # Firmware Version: the pages print "-". Lowest version that has every instruction and item the
-# page shows, per ../protocol2.md, ../protocol1.md and the includes.
+# page shows, per ../protocol2.md, ../protocol1.md and the includes; the builder refuses a version
+# below any "available from firmware vNN" of the page's description sections (firmware.py).
+# Entries under a page name are pages whose notes ask more than their family's version.
 FIRMWARE = {
     "x": (45, "firmware_version: the page shows '-'; 45 is the lowest X430/540 firmware with every "
               "feature the table and protocol2.md describe: Fast Sync Read / Fast Bulk Read (X430/540 "
               "fw v45+), Startup Configuration(60) ('available from firmware V45'), the broadcast "
               "Factory Reset 0xFF guard (fw 42+), time-based profiles (fw 42+), Bus Watchdog (v38+)"),
-    "x330": (46, "firmware_version: the page shows '-'; 46 is the lowest X330 firmware with Fast Sync "
-                 "Read / Fast Bulk Read (protocol2.md: X330 fw v46+), which also covers the Factory "
-                 "Reset broadcast guard (fw 42+) and Startup Configuration(60)"),
+    "x330": (53, "firmware_version: the page shows '-'; 53, what a buyer gets today: the page's note 'Firmware "
+                 "versions prior to V53 support up to 20 Indirect Address/Data items. The address range for "
+                 "Indirect Address is 168 ~ 207, and for Indirect Data is 208 ~ 227.' makes the 28-item Indirect "
+                 "blocks it prints a V53-or-later table (the older one is firmware_variants' 52). 53 also covers "
+                 "Fast Sync Read / Fast Bulk Read (protocol2.md: X330 fw v46+) and the page's 'available from "
+                 "firmware V46' items (Torque On by Goal Update, Startup Configuration, Backup Ready)"),
+    "xm335-t323": (46, "firmware_version: the page shows '-'; 46 is the lowest X330 firmware with Fast Sync Read / "
+                       "Fast Bulk Read (protocol2.md: X330 fw v46+), above the page's 'Startup Configuration is "
+                       "available from firmware V45' and 'Backup Ready is available from firmware V45'. The page has "
+                       "no 'prior to V53' Indirect note (its Indirect blocks have no older layout), so the XL330/XC330 "
+                       "V53 floor does not apply and it has no firmware variant"),
     "mx2": (42, "firmware_version: the page shows '-'; 42 covers the broadcast Factory Reset 0xFF guard "
                 "(protocol2.md: 'MX(2.0) FW42') and time-based profiles (fw 42); Fast Sync/Bulk Read "
                 "are not supported on MX(2.0) at any version"),
     "mx1": (40, "firmware_version: the page shows '-'; 40 is the first MX Protocol 1.0 firmware with "
                 "the Reboot instruction (protocol1.md: 'MX-28/64/106(V40)') and Realtime Tick(50) "
                 "('available from Firmware v40')"),
+    "mx-12w": (41, "firmware_version: the page shows '-'; 41: the page's Realtime-Tick(50) note 'This feature is "
+                   "available from Firmware v41' (the MX-28/64/106 pages say v40), which also covers the Reboot "
+                   "instruction (protocol1.md: 'MX-28/64/106(V40)')"),
     "p": (12, "firmware_version: the page shows '-'; 12 is the lowest P-series firmware with Fast Sync "
               "Read / Fast Bulk Read (protocol2.md: 'P Series(Fw v12 or above)')"),
+    "ph54-100-s500-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
+                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
+                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
+                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
+                            "V12')"),
+    "ph54-200-s500-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
+                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
+                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
+                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
+                            "V12')"),
+    "pm42-010-s260-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
+                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
+                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
+                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
+                            "V12')"),
     "pro": (1, "firmware_version: the page shows '-'; no instruction or item of the legacy PRO table "
                "depends on a firmware version in the reference, so 1 is an arbitrary placeholder"),
     "xl320": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the XL-320 "
@@ -50,6 +78,13 @@ FIRMWARE = {
                  "firmware version in the reference (protocol2.md lists no PRO(A) among the Fast Sync/Bulk Read "
                  "servos), so 1 is an arbitrary placeholder"),
 }
+
+# The firmware that stands for "Firmware versions prior to VNN" (firmware.py's older_indirect): the
+# last version before NN, as DynamixelSDK names that layout (xl330_m288_fw52.model for V53).
+OLDER_FIRMWARE_NOTE = ("firmware_variants: {version}, the page's note '{quote}' ({version} = the last version "
+                       "before V{before}, as DynamixelSDK's *_fw{version}.model files name that table): Indirect "
+                       "Address 1 ~ {count} at {address} ~ {address_end}, Data at {data} ~ {data_end}; every other "
+                       "item is the same")
 
 # Reply timing per family: the figures and the note. Only the AX-12 is measured.
 _TIMING_AX = ({"ping_us": 18, "read_us": 22, "write_us": 24, "write_per_byte_us": 6},

@@ -73,6 +73,27 @@ TEST_CASE("The protocol shorthand sets Protocol Type and an explicit item wins o
             {"baud_rate", 3}, {"protocol_type", 1}, {"baud_rate", 4}});
 }
 
+TEST_CASE("A config names a firmware as the command line does, NAME@FIRMWARE", "[app][config]") {
+  const auto config = parse(
+      one_port(R"({"model": "xl330-m288@52", "id": 1, "items": {"indirect_address_20": 132}})"));
+  REQUIRE(config.ports[0].servos.size() == 1);
+  CHECK(config.ports[0].servos[0].model == "xl330-m288@52");
+  const auto spec = library().find("xl330-m288@52");
+  REQUIRE(spec != nullptr);
+  CHECK(spec->firmware_version == 52);
+  CHECK(spec->find("indirect_data_1")->address == 208);
+  // The default firmware by its number is the model itself; the variants are listed by name.
+  CHECK(library().find("xl330-m288@53") == library().find("xl330-m288"));
+  const auto variants = library().variants_of("xl330-m288");
+  REQUIRE(variants.size() == 1);
+  CHECK(variants[0]->name == "xl330-m288@52");
+  CHECK(library().variants_of("xm335-t323").empty());
+  // Indirect Address 21 exists only from V53.
+  CHECK_THAT(refusal(one_port(
+                 R"({"model": "xl330-m288@52", "id": 1, "items": {"indirect_address_21": 132}})")),
+             Catch::Contains("xl330-m288@52 has no item \"indirect_address_21\""));
+}
+
 TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointer and the reason",
           "[app][config]") {
   using Case = std::pair<std::string, std::string>;
@@ -96,6 +117,10 @@ TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointe
        "bus.json: /ports/0/servos: must be an array of servos"},
       {one_port(R"({"model": "xm999", "id": 1})"),
        "bus.json: /ports/0/servos/0/model: unknown model \"xm999\""},
+      {one_port(R"({"model": "xl330-m288@51", "id": 1})"),
+       "bus.json: /ports/0/servos/0/model: xl330-m288 has no firmware \"51\" (known: 53, 52)"},
+      {one_port(R"({"model": "xm335-t323@52", "id": 1})"),
+       "bus.json: /ports/0/servos/0/model: xm335-t323 has no firmware \"52\" (known: 46)"},
       {one_port(R"({"model": "xm430-w350"})"),
        "bus.json: /ports/0/servos/0: needs exactly one of \"id\" and \"ids\""},
       {one_port(R"({"model": "xm430-w350", "id": 1, "ids": [2]})"),

@@ -213,3 +213,68 @@ TEST_CASE("The loader refuses other malformed values", "[model][loader]") {
   CHECK(refusal([](json& j) { j["items"] = json::array(); }) ==
         "/items: must list at least one item");
 }
+
+TEST_CASE("A firmware variant replaces the indirect blocks and rebuilds their items only",
+          "[model][loader]") {
+  json j = test::test_model_json();
+  j["firmware_variants"] = json::parse(
+      R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44, "count": 2}],
+           "notes": ["older"]}])");
+  const auto base = model::model_from_json(j, "variant.json");
+  REQUIRE(base.firmware_variants.size() == 1);
+  CHECK(model::firmware_list(base) == std::to_string(base.firmware_version) + ", 7");
+  CHECK_FALSE(model::model_for_firmware(base, 8).has_value());
+  CHECK(model::model_for_firmware(base, base.firmware_version)->name == "test-x");
+  const auto spec = *model::model_for_firmware(base, 7);
+  CHECK(spec.name == "test-x@7");
+  CHECK(spec.firmware_version == 7);
+  CHECK(spec.firmware_variants.empty());
+  CHECK(spec.notes.back() == "older");
+  REQUIRE(spec.indirect.size() == 1);
+  CHECK(spec.indirect[0].data == 44);
+  CHECK(spec.items.size() == base.items.size() - 4);
+  CHECK(spec.find("indirect_address_2")->address == 42);
+  CHECK(spec.find("indirect_address_2")->initial == 45);  // its Data item, as in the model
+  CHECK(spec.find("indirect_data_2")->address == 45);
+  CHECK(spec.find("indirect_address_3") == nullptr);
+  CHECK(spec.find("indirect_data_3") == nullptr);
+  // Bounds still name the same items after the rebuild moved them.
+  const auto& goal_pwm = *spec.find("goal_pwm");
+  REQUIRE(goal_pwm.limit_min);
+  CHECK(spec.items[goal_pwm.limit_min->item].key == "pwm_limit");
+  CHECK(std::is_sorted(spec.items.begin(), spec.items.end(),
+                       [](const auto& a, const auto& b) { return a.address < b.address; }));
+}
+
+TEST_CASE("The loader refuses a firmware variant that repeats a firmware or does not fit",
+          "[model][loader]") {
+  auto variant = [](const std::string& text) {
+    return [text](json& j) { j["firmware_variants"] = json::parse(text); };
+  };
+  CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44,
+        "count": 2}], "notes": []}, {"firmware_version": 7, "indirect": [{"address": 40,
+        "data": 44, "count": 1}], "notes": []}])")) ==
+        "/firmware_variants/1/firmware_version: lists firmware 7 twice");
+  CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 59,
+        "count": 1}], "notes": []}])")) ==
+        "/firmware_variants/0/indirect: item \"indirect_data_1\" at 59 overlaps "
+        "\"present_temperature\" for firmware 7");
+  CHECK(refusal([](json& j) {
+          item(j, "goal_pwm")["limit_max"] = "indirect_address_3";
+          j["firmware_variants"] = json::parse(
+              R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44, "count": 2}],
+                   "notes": []}])");
+        }) ==
+        "/firmware_variants/0/indirect: \"goal_pwm\" names \"indirect_address_3\", which "
+        "firmware 7 does not have");
+  CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [], "notes": []}])")) ==
+        "/firmware_variants/0/indirect: must list at least one block");
+  CHECK(refusal(variant(R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44,
+        "count": 1}]}])")) == "/firmware_variants/0: missing required field \"notes\"");
+  CHECK(refusal([](json& j) {
+          j.erase("indirect");
+          j["firmware_variants"] = json::parse(
+              R"([{"firmware_version": 7, "indirect": [{"address": 40, "data": 44, "count": 1}],
+                   "notes": []}])");
+        }) == "/firmware_variants/0: replaces indirect blocks, but the model has no \"indirect\"");
+}
