@@ -13,7 +13,8 @@ from .firmware import firmware_needs, older_indirect
 from .item_builder import build_items
 from .items import Draft
 from .markdown import clean_cell, parse_bps, tables_in
-from .page import Page
+from .decisions.catalogue import classify
+from .page import Page, read_page
 from .reference import Reference
 
 
@@ -124,9 +125,20 @@ def indirect(d: Draft) -> list[dict] | None:
     return out
 
 
+def page_needs(d: Draft) -> list:
+    """The firmware needs of the page, and of the pages its borrowed rows come from (for those rows)."""
+    needs = firmware_needs(d.ref, d.page)
+    for donor in sorted({r.borrowed for r in d.page.rows if r.borrowed}):
+        rows = {r.address for r in d.page.rows if r.borrowed == donor}
+        needs += [n for n in firmware_needs(d.ref, read_page(d.ref, donor, *classify(donor)))
+                  if rows & set(n.addresses)]
+    return needs
+
+
 def check_firmware(d: Draft, fw: int) -> None:
-    """Refuses a firmware below a version the page asks for an item the model has."""
-    for need in firmware_needs(d.ref, d.page):
+    """Refuses a firmware below a version the page (or a donor of its rows) asks for an item the
+    model has."""
+    for need in page_needs(d):
         if need.version > fw and any(a in d.by_addr for a in need.addresses):
             raise ValueError(f"{d.name}: firmware_version {fw} is below v{need.version}, which {need.section} "
                              f"needs ('{need.quote}')")
@@ -144,7 +156,7 @@ def firmware_variants(d: Draft, fw: int) -> list[dict] | None:
     if older is None:
         return None
     version = older.before - 1
-    for need in firmware_needs(d.ref, d.page):
+    for need in page_needs(d):
         if need.version > version and any(a in d.by_addr for a in need.addresses):
             raise ValueError(f"{d.name}: the firmware {version} variant lacks {need.section} ('{need.quote}')")
     first = d.by_key.get("indirect_address_1")

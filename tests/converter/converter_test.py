@@ -533,8 +533,14 @@ class ShippedFirmwareTest(unittest.TestCase):
                 addresses = {i["address"] for i in model["items"]}
                 versions = [model["firmware_version"]] + [v["firmware_version"]
                                                           for v in model.get("firmware_variants", [])]
-                for need in firmware.firmware_needs(ref, page):
-                    if addresses & set(need.addresses):
+                needs = [(n, addresses) for n in firmware.firmware_needs(ref, page)]
+                if name in item_rules.BORROWED_ROWS:  # a borrowed row brings its donor page's note along
+                    donor_name, rows = item_rules.BORROWED_ROWS[name]
+                    donor = read_page(ref, donor_name, *classify(donor_name))
+                    borrowed = {r.address for r in donor.rows if r.name in rows}
+                    needs += [(n, borrowed) for n in firmware.firmware_needs(ref, donor)]
+                for need, served in needs:
+                    if served & set(need.addresses):
                         for version in versions:
                             self.assertGreaterEqual(version, need.version,
                                                     f"{name} firmware {version}: {need.section}: '{need.quote}'")

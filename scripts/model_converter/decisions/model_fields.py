@@ -16,6 +16,14 @@ from . import EMANUAL_INCLUDES
 # page shows, per ../protocol2.md, ../protocol1.md and the includes; the builder refuses a version
 # below any "available from firmware vNN" of the page's description sections (firmware.py).
 # Entries under a page name are pages whose notes ask more than their family's version.
+# The DYNAMIXEL-P pages with Startup Configuration(60): their own row, or (PH42, PM54-040/060) the
+# row borrowed from a newer P page (item_rules.BORROWED_ROWS), whose note then applies too.
+_P_STARTUP_FIRMWARE = (45, "firmware_version: the page shows '-'; 45: the Startup Configuration(60) note "
+                           "'Startup Configuration is available from firmware V45' (the include's branch for every "
+                           "product group but XL330/XC330; the row is this page's, or borrowed from a newer P page), "
+                           "above 12 for Fast Sync Read / Fast Bulk Read (protocol2.md: 'P Series(Fw v12 or above)') "
+                           "and Backup Ready ('available from firmware V12')")
+
 FIRMWARE = {
     "x": (45, "firmware_version: the page shows '-'; 45 is the lowest X430/540 firmware with every "
               "feature the table and protocol2.md describe: Fast Sync Read / Fast Bulk Read (X430/540 "
@@ -43,21 +51,8 @@ FIRMWARE = {
                    "instruction (protocol1.md: 'MX-28/64/106(V40)')"),
     "p": (12, "firmware_version: the page shows '-'; 12 is the lowest P-series firmware with Fast Sync "
               "Read / Fast Bulk Read (protocol2.md: 'P Series(Fw v12 or above)')"),
-    "ph54-100-s500-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
-                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
-                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
-                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
-                            "V12')"),
-    "ph54-200-s500-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
-                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
-                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
-                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
-                            "V12')"),
-    "pm42-010-s260-r": (45, "firmware_version: the page shows '-'; 45: the page's Startup Configuration(60) note "
-                            "'Startup Configuration is available from firmware V45' (the include's branch for every "
-                            "product group but XL330/XC330), above 12 for Fast Sync Read / Fast Bulk Read "
-                            "(protocol2.md: 'P Series(Fw v12 or above)') and Backup Ready ('available from firmware "
-                            "V12')"),
+    **{name: _P_STARTUP_FIRMWARE for name in ("ph54-100-s500-r", "ph54-200-s500-r", "pm42-010-s260-r",
+                                               "ph42-020-s300-r", "pm54-040-s250-r", "pm54-060-s250-r")},
     "pro": (1, "firmware_version: the page shows '-'; no instruction or item of the legacy PRO table "
                "depends on a firmware version in the reference, so 1 is an arbitrary placeholder"),
     "xl320": (1, "firmware_version: the page shows '-'; nothing in the reference depends on the XL-320 "
