@@ -42,8 +42,15 @@ class ControlTable {
   const ModelSpec& spec() const { return *spec_; }
 
   /// Power-on or reboot: RAM items (and EEPROM items too when `eeprom` is true, as a factory reset
-  /// does) return to their initial values. No hooks run.
+  /// does) return to their initial values, Hybrid items to their saved values (with `eeprom`, to
+  /// their initial values, which become the saved ones). No hooks run.
   void load_initial(bool eeprom);
+
+  /// Hybrid Save: the Hybrid items' present values become the ones power-on and reboot restore.
+  void save_hybrid();
+
+  /// True while a Hybrid item differs from its saved value.
+  bool hybrid_changed() const;
 
   /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
   /// and a read may start or end inside an item; a read past the end of the table is an Access
@@ -136,8 +143,9 @@ class ControlTable {
 
   std::shared_ptr<const ModelSpec> spec_;
   std::vector<std::uint8_t> image_;
-  std::vector<int> item_at_;           // address -> item index, -1 for reserved bytes
-  std::vector<int> indirect_address_;  // address -> item index of its Indirect Address, or -1
+  std::vector<std::int64_t> hybrid_saved_;  // item -> saved value (Hybrid items only)
+  std::vector<int> item_at_;                // address -> item index, -1 for reserved bytes
+  std::vector<int> indirect_address_;       // address -> item index of its Indirect Address, or -1
   std::vector<std::vector<ReadHook>> read_hooks_;
   std::vector<std::vector<WriteHook>> write_hooks_;
   std::vector<std::vector<Validator>> validators_;

@@ -22,7 +22,7 @@ using Ms = std::chrono::duration<double, std::milli>;
 /// magnitudes, with bit 10 for the CW (negative) direction where they have one.
 inline constexpr std::int64_t kV1Magnitude = 1023;
 inline constexpr std::int64_t kV1Cw = 1024;
-/// Present Input Voltage and the voltage limits count 0.1 V.
+/// The voltage limits count 0.1 V (Present Input Voltage: MotionItems::voltage_counts_per_v).
 inline constexpr double kDeciVolt = 10;
 /// Drive Mode bits (includes/control_table_drivemode.md).
 inline constexpr std::int64_t kDriveModeReverse = 0x01;

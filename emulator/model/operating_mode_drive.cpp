@@ -20,6 +20,10 @@ constexpr std::int64_t kModePwm = 16;
 constexpr std::int64_t kInPosition = 0x01;
 constexpr std::int64_t kProfileOngoing = 0x02;
 constexpr std::int64_t kFollowingError = 0x08;
+// DYNAMIXEL-Y adds Moving and Position In Range
+// (_includes/en/dxl/y/control_table_541_moving_status.md of ROBOTIS-GIT/emanual).
+constexpr std::int64_t kMovingBit = 0x04;
+constexpr std::int64_t kPositionInRange = 0x40;
 
 // In position: within this share of a turn of Goal Position once the profile is over. Following
 // error: further than this share of a turn from the trajectory (docs/motion.md: chosen).
@@ -208,9 +212,9 @@ class OperatingModeDrive final : public Drive {
     }
     // includes/control_table_moving_2.md: Moving when |Present Velocity| > Moving Threshold, or
     // while a profile runs.
-    motion_.put(items.moving,
-                running || std::abs(velocity) > motion_.get(items.moving_threshold) ? 1 : 0);
-    publish_moving_status(running, positional);
+    const bool moving = running || std::abs(velocity) > motion_.get(items.moving_threshold);
+    motion_.put(items.moving, moving ? 1 : 0);
+    publish_moving_status(running, positional, moving);
   }
 
  private:
@@ -239,11 +243,21 @@ class OperatingModeDrive final : public Drive {
     return demand;
   }
 
-  void publish_moving_status(bool running, bool positional) {
-    if (!motion_.items.moving_status) {
+  void publish_moving_status(bool running, bool positional, bool moving) {
+    const MotionItems& items = motion_.items;
+    if (!items.moving_status) {
       return;
     }
     std::int64_t status = 0;
+    if (motion_.traits.moving_status_motion_and_range) {
+      // Moving: "Whether the device is rotating"; Position In Range: Present Position within
+      // Min/Max Position Limit, in every mode.
+      const std::int64_t position = motion_.get(items.present_position);
+      const bool in_range = !items.min_position_limit || !items.max_position_limit ||
+                            (position >= motion_.get(items.min_position_limit) &&
+                             position <= motion_.get(items.max_position_limit));
+      status |= (moving ? kMovingBit : 0) | (in_range ? kPositionInRange : 0);
+    }
     const auto& profile = motion_.profile;
     if (positional && profile) {
       if (!motion_.step_profile) {

@@ -54,7 +54,8 @@ Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDur
   items_.return_delay_time = table_.index("return_delay_time");
   // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
   items_.protocol = item({"protocol_type", "protocol_version"});
-  items_.hardware_error_status = item({"hardware_error_status"});
+  // DYNAMIXEL-Y reports its errors in Error Code(153): the status packet's Alert bit follows it.
+  items_.hardware_error_status = item({"hardware_error_status", "error_code"});
   items_.status_return_level = item({"status_return_level"});
   items_.secondary_id = item({"secondary_id"});
   items_.bus_watchdog = item({"bus_watchdog"});

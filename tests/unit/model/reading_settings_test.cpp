@@ -2,7 +2,7 @@
 // between (docs/motion.md "Settings the readings follow at once"): Present Position = direction ·
 // shaft + Homing Offset (Multi Turn Offset on MX 1.0), and Drive Mode's reverse bit flips the
 // Present values' signs. Over every model in models/ that has the items, so every family that
-// has them (X, MX(2.0), P, PRO(A): Homing Offset and Drive Mode; PRO: Homing Offset; MX 1.0:
+// has them (X, MX(2.0), P, PRO(A), Y: Homing Offset and Drive Mode; PRO: Homing Offset; MX 1.0:
 // Multi Turn Offset) is covered, and models added later too.
 #include <catch2/catch.hpp>
 
@@ -142,7 +142,7 @@ TEST_CASE("Present Position shows a new Homing Offset on the very next read, in 
     bench.wait(3);
     CHECK(bench.read("present_position") == before + accepted(777));
   }
-  CHECK(families == std::set<std::string>{"x", "mx2", "mx1", "p", "pro", "pro_a"});
+  CHECK(families == std::set<std::string>{"x", "mx2", "mx1", "p", "pro", "pro_a", "y"});
 }
 
 TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on the next read",
@@ -175,7 +175,7 @@ TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on th
     CHECK(bench.read("present_position") == std::llround(shaft + 500));
     CHECK(bench.read("present_velocity") == forward_velocity);
   }
-  CHECK(families == std::set<std::string>{"x", "mx2", "p", "pro_a"});
+  CHECK(families == std::set<std::string>{"x", "mx2", "p", "pro_a", "y"});
 }
 
 TEST_CASE("Homing Offset through Reg Write and Action shows at once too",
