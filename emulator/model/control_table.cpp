@@ -76,9 +76,21 @@ void ControlTable::load_initial(bool eeprom) {
 
 void ControlTable::save_hybrid() {
   for (std::size_t i = 0; i < spec_->items.size(); ++i) {
-    if (spec_->items[i].area == Area::Hybrid) {
+    if (spec_->items[i].area == Area::Hybrid && hybrid_saved_[i] != get(i)) {
       hybrid_saved_[i] = get(i);
+      ++eeprom_changes_;  // saved values are non-volatile: a state file keeps them
     }
+  }
+}
+
+void ControlTable::restore_hybrid(std::size_t item, std::int64_t value) {
+  if (spec_->items.at(item).area != Area::Hybrid) {
+    throw std::invalid_argument(describe_item(spec_->items[item]) + " is not a Hybrid item");
+  }
+  set(item, value);
+  if (hybrid_saved_[item] != value) {
+    hybrid_saved_[item] = value;
+    ++eeprom_changes_;
   }
 }
 

@@ -52,6 +52,12 @@ class ControlTable {
   /// True while a Hybrid item differs from its saved value.
   bool hybrid_changed() const;
 
+  /// The value a reboot restores to Hybrid item `item` (the last saved one).
+  std::int64_t hybrid_saved(std::size_t item) const { return hybrid_saved_.at(item); }
+
+  /// Device side: Hybrid item `item` holds `value`, saved (a state file restored at start).
+  void restore_hybrid(std::size_t item, std::int64_t value);
+
   /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
   /// and a read may start or end inside an item; a read past the end of the table is an Access
   /// error and yields no data (protocol2.md "Read"). Indirect Data reads the mapped address.
@@ -120,8 +126,9 @@ class ControlTable {
   /// True when `value` fits `item`'s size and signedness: what set() and encoded() accept.
   static bool fits(const ItemSpec& item, std::int64_t value);
 
-  /// How many times an EEPROM byte has changed since the table was made (by a bus write, a
-  /// device-side set or a copy): equal counts mean an unchanged EEPROM, without comparing it.
+  /// How many times an EEPROM byte or a saved Hybrid value has changed since the table was made
+  /// (by a bus write, a device-side set, a copy or a Hybrid Save): equal counts mean unchanged
+  /// non-volatile memory, without comparing it.
   std::uint64_t eeprom_changes() const { return eeprom_changes_; }
 
  private:
