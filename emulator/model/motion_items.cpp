@@ -19,6 +19,8 @@ MotionItems::MotionItems(const ModelSpec& s)
       profile_velocity(s.index_of("profile_velocity")),
       profile_acceleration(s.index_of("profile_acceleration")),
       moving_speed(s.index_of("moving_speed")),
+      profile_time(s.index_of("profile_time")),
+      profile_acceleration_time(s.index_of("profile_acceleration_time")),
       torque_limit(s.index_of("torque_limit")),
       current_limit(s.index_of("current_limit")),
       pwm_limit(s.index_of("pwm_limit")),
@@ -66,6 +68,9 @@ MotionItems::MotionItems(const ModelSpec& s)
       break;
     }
     error_code_history.push_back(*history);
+  }
+  if (profile_time) {
+    profile_time_unit_ms = unit_figure(s.items[*profile_time].unit).value_or(1);
   }
   if (present_voltage) {
     voltage_counts_per_v =

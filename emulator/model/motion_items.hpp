@@ -19,6 +19,9 @@ struct MotionItems {
   std::optional<std::size_t> operating_mode, control_mode, drive_mode, torque_enable, goal_position,
       goal_velocity, goal_current, goal_torque, goal_pwm, goal_acceleration, profile_velocity,
       profile_acceleration, moving_speed;
+  // DYNAMIXEL-Y's time-based profile: its own items, used instead of Profile Velocity and
+  // Profile Acceleration when Drive Mode selects a time-based profile.
+  std::optional<std::size_t> profile_time, profile_acceleration_time;
   // Limits and offsets.
   std::optional<std::size_t> torque_limit, current_limit, pwm_limit, velocity_limit, homing_offset,
       multi_turn_offset, cw_angle_limit, ccw_angle_limit, moving_threshold, min_position_limit,
@@ -44,6 +47,9 @@ struct MotionItems {
   /// (0.1 V, the unit of every page that prints none). Kept as counts per volt so that readings
   /// convert exactly (127 / 10 is 12.7; 127 * 0.1 is not).
   double voltage_counts_per_v = 1 / kDefaultVoltageUnitV;
+  /// Milliseconds per unit of `profile_time` and `profile_acceleration_time`: their unit's
+  /// figure (DYNAMIXEL-Y: "0.2 [ms]"), else 1.
+  double profile_time_unit_ms = 1;
 
   /// The Present values above that the model has: every item the motion model writes.
   std::vector<std::size_t> readings() const;

@@ -130,8 +130,15 @@ class OperatingModeDrive final : public Drive {
       motion_.plan_at_speed(goal, motion_.fastest_acceleration());
       return;
     }
-    const auto velocity = static_cast<double>(motion_.get(items.profile_velocity));
-    const auto acceleration = static_cast<double>(motion_.get(items.profile_acceleration));
+    const bool time_based = (motion_.get(items.drive_mode) & kDriveModeTimeBased) != 0;
+    auto velocity = static_cast<double>(motion_.get(items.profile_velocity));
+    auto acceleration = static_cast<double>(motion_.get(items.profile_acceleration));
+    if (time_based && items.profile_time) {
+      // DYNAMIXEL-Y: "a time-based profile is created using Profile Acceleration Time(248) and
+      // Profile Time(252)"; Profile Time 0 deactivates the profile.
+      velocity = time_ms(items.profile_time);
+      acceleration = time_ms(items.profile_acceleration_time);
+    }
     motion_.profile_start = motion_.state_time;
     if (velocity == 0) {
       // No profile: the motor goes as fast as it can (Moving Status reports no profile).
@@ -142,7 +149,7 @@ class OperatingModeDrive final : public Drive {
       return;
     }
     motion_.step_profile = false;
-    if ((motion_.get(items.drive_mode) & kDriveModeTimeBased) != 0) {
+    if (time_based) {
       motion_.profile = Profile::time_based(s.position, s.velocity, goal, velocity, acceleration);
       return;
     }
@@ -218,15 +225,24 @@ class OperatingModeDrive final : public Drive {
   }
 
  private:
+  /// A time item (DYNAMIXEL-Y Profile Time / Profile Acceleration Time) in milliseconds.
+  double time_ms(const std::optional<std::size_t>& item) const {
+    return static_cast<double>(motion_.get(item)) * motion_.items.profile_time_unit_ms;
+  }
+
   double ramp_velocity(double goal) {
     // Velocity Control Mode ramps towards Goal Velocity with Profile Acceleration (0: a
     // step); time-based: Profile Acceleration is the time to reach it
     // (includes/control_table_profile_velocity.md, NOTE on Velocity Control Mode).
     const MotorParams& p = motion_.motor.params();
     double& demand = motion_.velocity_demand;
-    const auto acc = static_cast<double>(motion_.get(motion_.items.profile_acceleration));
+    const bool time_based = (motion_.get(motion_.items.drive_mode) & kDriveModeTimeBased) != 0;
+    // DYNAMIXEL-Y: Profile Acceleration Time(248) is the time-based ramp, in Velocity Control too.
+    const double acc = time_based && motion_.items.profile_acceleration_time
+                           ? time_ms(motion_.items.profile_acceleration_time)
+                           : static_cast<double>(motion_.get(motion_.items.profile_acceleration));
     double rate = std::numeric_limits<double>::infinity();
-    if (acc > 0 && (motion_.get(motion_.items.drive_mode) & kDriveModeTimeBased) != 0) {
+    if (acc > 0 && time_based) {
       // A change of Goal Velocity takes Profile Acceleration ms: the rate is set when the goal
       // changes, from the velocity the ramp had then.
       if (goal != ramp_goal_) {

@@ -173,6 +173,49 @@ TEST_CASE("Y Operating Mode takes 0, 1 and 3, each driven by its own goal item",
   }
 }
 
+TEST_CASE("Y time-based profiles take Profile Time and Profile Acceleration Time, in 0.2 ms",
+          "[model][y]") {
+  Bench b;
+  constexpr std::int64_t kTimeBased = 0x04;  // Drive Mode bit 2
+  constexpr std::int64_t kProfileOngoing = 0x02;
+  REQUIRE(b.write("drive_mode", kTimeBased) == 0);
+  REQUIRE(b.write("profile_time", 5000) == 0);               // 1,000 ms
+  REQUIRE(b.write("profile_acceleration_time", 1000) == 0);  // 200 ms
+  REQUIRE(b.write("torque_enable", 1) == 0);
+  REQUIRE(b.write("goal_position", 100000) == 0);
+  // Profile Velocity (39.21 rev/min, about 340 pulses/ms) would be there in about 0.3 s.
+  b.wait(600);
+  const std::int64_t halfway = b.read("present_position");
+  CHECK(halfway > 30000);
+  CHECK(halfway < 90000);
+  CHECK((b.read("moving_status") & kProfileOngoing) != 0);
+  b.wait(500);
+  CHECK(std::llabs(b.read("present_position") - 100000) <= b.read("in_position_threshold"));
+  CHECK((b.read("moving_status") & kProfileOngoing) == 0);
+
+  SECTION("Profile Time 0 deactivates the profile: the motor goes as fast as it can") {
+    REQUIRE(b.write("profile_time", 0) == 0);
+    REQUIRE(b.write("goal_position", 0) == 0);
+    b.wait(5);
+    CHECK((b.read("moving_status") & 0x30) == 0);  // profile type: unused (step)
+    b.wait(295);                                   // under a third of the 1,000 ms the profile took
+    CHECK((b.read("moving_status") & kProfileOngoing) == 0);
+    CHECK(std::llabs(b.read("present_position")) <= b.read("in_position_threshold"));
+  }
+  SECTION("Velocity Control ramps over Profile Acceleration Time") {
+    REQUIRE(b.write("torque_enable", 0) == 0);
+    REQUIRE(b.write("operating_mode", 1) == 0);
+    REQUIRE(b.write("drive_mode", kTimeBased) == 0);
+    REQUIRE(b.write("profile_acceleration_time", 2500) == 0);  // 500 ms
+    REQUIRE(b.write("torque_enable", 1) == 0);
+    REQUIRE(b.write("goal_velocity", 1000) == 0);
+    b.wait(250);
+    CHECK(b.read("present_velocity") == Approx(500).margin(30));
+    b.wait(400);
+    CHECK(b.read("present_velocity") == Approx(1000).margin(20));
+  }
+}
+
 TEST_CASE("Y Present Input Voltage counts 0.01 V, its limits 0.1 V", "[model][y]") {
   Bench b;
   CHECK(b.read("present_input_voltage") == 2400);  // 24 V
