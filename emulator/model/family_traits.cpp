@@ -83,14 +83,16 @@ constexpr FamilyTraits kProA = [] {
 
 // DYNAMIXEL-Y Error Code values (_includes/en/dxl/y/control_table_153_error_code.md of
 // ROBOTIS-GIT/emanual): 1 Over Voltage, 2 Low Voltage, 4 Motor Overheating, 5 Overload,
-// 7 Inverter Error (the nearest to an electrical shock), 13 Encoder Error, 14 Hall Sensor Error.
+// 7 Inverter Error (the nearest to an electrical shock), 13 Encoder Error, 14 Hall Sensor Error,
+// 18 Bus Watchdog Error.
 constexpr ErrorCodes kYErrorCodes = {.over_voltage = 1,
                                      .low_voltage = 2,
                                      .overheating = 4,
                                      .overload = 5,
                                      .electrical_shock = 7,
                                      .encoder = 13,
-                                     .hall_sensor = 14};
+                                     .hall_sensor = 14,
+                                     .bus_watchdog = 18};
 
 // DYNAMIXEL-Y: the P rules where its pages are silent (docs/families.md "DYNAMIXEL-Y"), with
 // Operating Mode 0, 1, 3 only (Goal Position within the position limits, no extended range),

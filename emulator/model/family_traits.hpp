@@ -99,6 +99,9 @@ struct ErrorCodes {
   std::uint8_t electrical_shock = 0;  ///< the family's nearest error to Electrical Shock
   std::uint8_t encoder = 0;           ///< Encoder Error
   std::uint8_t hall_sensor = 0;       ///< Hall Sensor Error
+  /// Bus Watchdog Error: unlike the others it keeps torque on ("Torque ON: Y") and is cleared by
+  /// writing 0 to Bus Watchdog.
+  std::uint8_t bus_watchdog = 0;
 };
 
 /// Everything a family does differently from the others that its model files cannot say. One

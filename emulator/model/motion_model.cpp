@@ -196,6 +196,7 @@ void MotionModel::republish() {
 void MotionModel::stop() {
   drive_->stop_goals();
   hold();
+  protection_.report_bus_watchdog();
 }
 
 void MotionModel::clear_turns() {

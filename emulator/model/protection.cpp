@@ -33,13 +33,25 @@ void Protection::install_hooks() {
   // that turned torque off (every one Error Code reports here) keeps it off.
   if (items.torque_enable && items.error_code) {
     table.add_validator("torque_enable", [this](std::size_t, std::int64_t v) {
-      if (v != 0 && motion_.get(motion_.items.error_code) != 0) {
+      if (v != 0 && torque_off_error()) {
         return TableResult::fail(TableError::ResultFail,
                                  "Torque Enable stays 0 while Error Code holds an error, until "
                                  "the servo reboots");
       }
       return TableResult{};
     });
+  }
+  // "To resolve the Bus Watchdog Error, you must reset Bus Watchdog(8) to '0'"
+  // (_includes/en/dxl/y/control_table_8_bus_watchdog.md).
+  const std::uint8_t watchdog_code = motion_.traits.error_codes.bus_watchdog;
+  if (items.error_code && watchdog_code != 0 && table.spec().index_of("bus_watchdog")) {
+    table.on_write("bus_watchdog",
+                   [this, watchdog_code](std::size_t, std::int64_t, std::int64_t v) {
+                     if (v == 0 && motion_.get(motion_.items.error_code) == watchdog_code) {
+                       motion_.put(motion_.items.error_code, 0);
+                       publish_controller_state();
+                     }
+                   });
   }
   if (items.torque_enable && items.controller_state) {
     table.on_write("torque_enable",
@@ -154,6 +166,19 @@ void Protection::latch_error_code(FaultSet active, double volts) {
   publish_controller_state();
 }
 
+void Protection::report_bus_watchdog() {
+  const std::uint8_t code = motion_.traits.error_codes.bus_watchdog;
+  if (code != 0 && motion_.items.error_code && !torque_off_error()) {
+    record_error_code(code);  // torque stays on; the goals are refused until it is cleared
+    publish_controller_state();
+  }
+}
+
+bool Protection::torque_off_error() const {
+  const std::int64_t code = motion_.get(motion_.items.error_code);
+  return code != 0 && code != motion_.traits.error_codes.bus_watchdog;
+}
+
 void Protection::record_error_code(std::uint8_t code) {
   // _includes/en/dxl/y/control_table_error_code_history.md: Error Code shows the most recent
   // error; History 1 ~ 16 keep the errors in order, oldest first, each once, the oldest dropped
@@ -185,9 +210,9 @@ void Protection::publish_controller_state() {
   if (!items.controller_state) {
     return;
   }
-  const std::int64_t state = motion_.get(items.error_code) != 0 ? kControllerHwFault
-                             : motion_.torque_on()              ? kControllerRunning
-                                                                : kControllerInverterOff;
+  const std::int64_t state = torque_off_error()    ? kControllerHwFault
+                             : motion_.torque_on() ? kControllerRunning
+                                                   : kControllerInverterOff;
   motion_.put(items.controller_state, state);
 }
 

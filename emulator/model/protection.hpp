@@ -34,10 +34,15 @@ class Protection {
   /// of the last check, or a 2.0 model's latched errors in the 1.0 bits.
   std::uint8_t v1_error_bits() const;
 
+  /// Bus Watchdog expiry, where the family reports it in Error Code (ErrorCodes::bus_watchdog).
+  void report_bus_watchdog();
+
   /// Power-on or reboot: no Overload building up or latched; Controller State shows torque.
   void reset();
 
  private:
+  /// True while Error Code holds an error that keeps torque off (every one but Bus Watchdog).
+  bool torque_off_error() const;
   void alarm_shutdown(FaultSet active);
   void latch(FaultSet active);
   void latch_error_code(FaultSet active, double volts);

@@ -335,14 +335,26 @@ TEST_CASE("Y Realtime Tick counts milliseconds and wraps after 32,767", "[model]
   CHECK(b.read("realtime_tick") == 1000);
 }
 
-TEST_CASE("Y Bus Watchdog is two bytes and reads -1 after it expires", "[model][y]") {
+TEST_CASE("Y Bus Watchdog is two bytes, reads -1 after it expires and sets Error Code 18",
+          "[model][y]") {
   Bench b;
   REQUIRE(b.write("torque_enable", 1) == 0);   // the watchdog runs while torque is on
   REQUIRE(b.write("bus_watchdog", 100) == 0);  // 2,000 ms
   CHECK(b.servo.bus_watchdog_period() == std::chrono::milliseconds(2000));
   b.servo.expire_bus_watchdog();
-  CHECK(b.read("bus_watchdog") == -1);
+  std::uint8_t error = 0;
+  CHECK(b.read("bus_watchdog", &error) == -1);
+  // Bus Watchdog Error (18) keeps torque on ("Torque ON: Y") and holds the goals.
+  CHECK(b.read("error_code") == 18);
+  CHECK((error & kAlert) != 0);
+  CHECK(b.read("error_code_history_1") == 18);
+  CHECK(b.read("torque_enable") == 1);
+  CHECK(b.read("controller_state") == kRunning);
   CHECK((b.write("goal_position", 1000) & kErrorNumber) == kDataRange);
+  // Writing 0 to Bus Watchdog clears it; the history keeps it.
   REQUIRE(b.write("bus_watchdog", 0) == 0);
+  CHECK(b.read("error_code", &error) == 0);
+  CHECK((error & kAlert) == 0);
+  CHECK(b.read("error_code_history_1") == 18);
   CHECK(b.write("goal_position", 1000) == 0);
 }

@@ -128,6 +128,7 @@ TEST_CASE(
   CHECK(t.error_codes.overload == 5);
   CHECK(t.error_codes.encoder == 13);
   CHECK(t.error_codes.hall_sensor == 14);
+  CHECK(t.error_codes.bus_watchdog == 18);
   CHECK(same_bits(t.fault_bits, {}));  // no Shutdown / Hardware Error Status items
   CHECK(t.moving_status_motion_and_range);
   for (const auto& [family, name] : kNames) {
