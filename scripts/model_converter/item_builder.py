@@ -56,8 +56,9 @@ def make_items(d: Draft):
         if row.borrowed:
             item.notes.append(BORROWED_ROW_NOTE.format(donor=row.borrowed))
         if row.by_protocol:
+            mark = ", with footnote mark 1)" if row.by_protocol.endswith("1)") else ""
             item.notes.append(f"initial: the page prints '{row.by_protocol}', one value per protocol (DYNAMIXEL "
-                              f"Protocol 2.0, then Modbus, footnote 1); the Protocol 2.0 value is used: dxlemu "
+                              f"Protocol 2.0, then Modbus{mark}); the Protocol 2.0 value is used: dxlemu "
                               f"speaks DYNAMIXEL Protocol 2.0 only")
         if row.access == "R/RW":
             item.notes.append("access: the page prints 'R/RW' (read-only or writable depending on "

@@ -7,7 +7,8 @@ value is accepted. Every choice leaves a "range: ..." note on the item.
 
 from __future__ import annotations
 
-from .decisions.item_rules import LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY
+from .decisions.item_rules import (LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY,
+                                   WIDEN_TO_FACTORY_BY_FAMILY)
 from .decisions.range_choices import RANGE_CHOICES
 from .items import Draft, Item
 from .markdown import clean_cell, norm_space, parse_int, snake_key, tables_in
@@ -202,7 +203,7 @@ def resolve_limits(d: Draft):
 
 def widen_to_factory(d: Draft):
     """Items printed with a range that excludes their factory value (WIDEN_TO_FACTORY)."""
-    for key, (widest, note) in WIDEN_TO_FACTORY.items():
+    for key, (widest, note) in (WIDEN_TO_FACTORY | d.lookup(WIDEN_TO_FACTORY_BY_FAMILY, {})).items():
         item = d.by_key.get(key)
         if item is None or item.max is None or item.initial <= item.max:
             continue

@@ -255,6 +255,15 @@ WIDEN_TO_FACTORY = {
                           "not in the reference), so 0 ~ 255 is accepted"),
 }
 
+# The same widening where a family's own block says it: key -> (max, note) by family.
+WIDEN_TO_FACTORY_BY_FAMILY = {
+    "y": {"secondary_id": (255, "range: {min} ~ {max} is printed but the factory value is {initial}; the DYNAMIXEL-Y "
+                                "Secondary ID block's Value table says '0 ~ 252 Enable Secondary ID function', "
+                                "'253 ~ 255 Disable Secondary ID function, Default value : 255' "
+                                f"({EMANUAL_INCLUDES}y/control_table_10_secondary_id.md, not in the reference), so "
+                                "0 ~ 255 is accepted")},
+}
+
 # ---------------------------------------------------------------------------------------------
 # Range donors
 # ---------------------------------------------------------------------------------------------
