@@ -20,10 +20,7 @@ constexpr std::int64_t kModePwm = 16;
 constexpr std::int64_t kInPosition = 0x01;
 constexpr std::int64_t kProfileOngoing = 0x02;
 constexpr std::int64_t kFollowingError = 0x08;
-// DYNAMIXEL-Y adds Moving and Position In Range
-// (_includes/en/dxl/y/control_table_541_moving_status.md of ROBOTIS-GIT/emanual).
-constexpr std::int64_t kMovingBit = 0x04;
-constexpr std::int64_t kPositionInRange = 0x40;
+// DYNAMIXEL-Y adds kMovingStatusMoving and kMovingStatusInRange (motion_context.hpp).
 
 // In position: within this share of a turn of Goal Position once the profile is over. Following
 // error: further than this share of a turn from the trajectory (docs/motion.md: chosen).
@@ -272,7 +269,7 @@ class OperatingModeDrive final : public Drive {
       const bool in_range = !items.min_position_limit || !items.max_position_limit ||
                             (position >= motion_.get(items.min_position_limit) &&
                              position <= motion_.get(items.max_position_limit));
-      status |= (moving ? kMovingBit : 0) | (in_range ? kPositionInRange : 0);
+      status |= (moving ? kMovingStatusMoving : 0) | (in_range ? kMovingStatusInRange : 0);
     }
     const auto& profile = motion_.profile;
     if (positional && profile) {

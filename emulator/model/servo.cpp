@@ -359,7 +359,12 @@ ServoResponse Servo::do_clear(const wire::Clear& clear) {
     return r;
   }
   // "The Clear instruction can only be executed when the DYNAMIXEL is stopped" (protocol2.md).
-  if (const auto moving = item({"moving"}); moving && table_.get(*moving) != 0) {
+  // DYNAMIXEL-Y has no Moving item: its Moving Status says so (bit 2).
+  const auto moving = item({"moving"});
+  const auto status = item({"moving_status"});
+  const bool y_moving = !moving && status && spec().traits().moving_status_motion_and_range &&
+                        (table_.get(*status) & kMovingStatusMoving) != 0;
+  if ((moving && table_.get(*moving) != 0) || y_moving) {
     r.error = error_byte_v2(wire::StatusError::ResultFail);
     return r;
   }

@@ -327,6 +327,34 @@ TEST_CASE("Y Moving Status says Position In Range and Moving besides the P bits"
   CHECK((b.read("moving_status") & kPositionInRange) == 0);
 }
 
+TEST_CASE("Y Clear resets the multi-turn position, only while the servo stands still",
+          "[model][y]") {
+  Bench b;
+  const auto clear = [&] {
+    return b.servo
+        .execute({wire::Protocol::V2, 1, wire::Clear{0x01, {0x44, 0x58, 0x4C, 0x22}}},
+                 model::Addressing::Unicast)
+        .error;
+  };
+  constexpr std::int64_t kTurn = 524288;  // pulses per revolution
+  REQUIRE(b.write("operating_mode", 1) == 0);
+  REQUIRE(b.write("torque_enable", 1) == 0);
+  REQUIRE(b.write("goal_velocity", 3000) == 0);  // 30 rev/min: a turn in 2 s
+  b.wait(3000);
+  CHECK(b.read("present_position") > kTurn);
+  // Y has no Moving item; Moving Status bit 2 says it turns.
+  CHECK((b.read("moving_status") & kMovingBit) != 0);
+  CHECK((clear() & kErrorNumber) == kResultFail);
+  REQUIRE(b.write("goal_velocity", 0) == 0);
+  b.wait(500);
+  REQUIRE((b.read("moving_status") & kMovingBit) == 0);
+  CHECK(clear() == 0);
+  b.wait(5);
+  const std::int64_t position = b.read("present_position");
+  CHECK(position >= 0);
+  CHECK(position < kTurn);
+}
+
 TEST_CASE("Y Realtime Tick counts milliseconds and wraps after 32,767", "[model][y]") {
   Bench b;
   b.wait(995);
