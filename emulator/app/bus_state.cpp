@@ -14,8 +14,11 @@ using nlohmann::ordered_json;
 constexpr const char* kFormat = "dxlemu-state";
 constexpr int kVersion = 1;
 
+// Non-volatile items: writable EEPROM, and the Hybrid area (DYNAMIXEL-Y), whose saved values a
+// reboot restores.
 bool kept(const model::ItemSpec& item) {
-  return item.area == model::Area::Eeprom && item.access == model::Access::ReadWrite;
+  return (item.area == model::Area::Eeprom || item.area == model::Area::Hybrid) &&
+         item.access == model::Access::ReadWrite;
 }
 
 }  // namespace
@@ -23,8 +26,10 @@ bool kept(const model::ItemSpec& item) {
 ServoState capture_state(const model::ControlTable& table) {
   ServoState state{table.spec().name, {}};
   for (std::size_t i = 0; i < table.spec().items.size(); ++i) {
-    if (kept(table.spec().items[i])) {
-      state.eeprom.emplace_back(table.spec().items[i].key, table.get(i));
+    const model::ItemSpec& item = table.spec().items[i];
+    if (kept(item)) {
+      state.eeprom.emplace_back(
+          item.key, item.area == model::Area::Hybrid ? table.hybrid_saved(i) : table.get(i));
     }
   }
   return state;
@@ -33,9 +38,16 @@ ServoState capture_state(const model::ControlTable& table) {
 std::vector<std::uint8_t> eeprom_image(const model::ControlTable& table) {
   std::vector<std::uint8_t> out;
   const auto bytes = table.bytes();
-  for (const model::ItemSpec& item : table.spec().items) {
+  for (std::size_t i = 0; i < table.spec().items.size(); ++i) {
+    const model::ItemSpec& item = table.spec().items[i];
     if (item.area == model::Area::Eeprom) {
       out.insert(out.end(), bytes.begin() + item.address, bytes.begin() + item.address + item.size);
+    } else if (item.area == model::Area::Hybrid) {
+      // The saved value, not the present one: unsaved Hybrid writes are lost at power-off.
+      const auto saved = static_cast<std::uint64_t>(table.hybrid_saved(i));
+      for (int b = 0; b < 8; ++b) {
+        out.push_back(static_cast<std::uint8_t>(saved >> (8 * b)));
+      }
     }
   }
   return out;
@@ -59,7 +71,12 @@ void restore_state(model::ControlTable& table, const ServoState& state, const st
     }
   }
   for (const auto& [key, value] : state.eeprom) {
-    table.set(key, value);
+    const std::size_t item = table.index(key);
+    if (table.spec().items[item].area == model::Area::Hybrid) {
+      table.restore_hybrid(item, value);
+    } else {
+      table.set(item, value);
+    }
   }
 }
 

@@ -11,7 +11,8 @@
 
 namespace dxlemu::app {
 
-/// What a state file keeps of one servo: its model and the writable EEPROM items, by key.
+/// What a state file keeps of one servo: its model and the writable EEPROM items, by key (with
+/// the saved values of the Hybrid items of DYNAMIXEL-Y).
 struct ServoState {
   std::string model;
   std::vector<std::pair<std::string, std::int64_t>> eeprom;
@@ -21,16 +22,16 @@ struct ServoState {
 /// Every port's servos, by port name, in the port's bus order (docs/config.md "State file").
 using BusState = std::map<std::string, std::vector<ServoState>>;
 
-/// The writable EEPROM items of `table`.
+/// The writable EEPROM items of `table`, and the saved values of its Hybrid items.
 ServoState capture_state(const model::ControlTable& table);
 
-/// The bytes of every EEPROM item of `table` in address order: a cheap fingerprint to notice
-/// that the EEPROM changed without building a ServoState.
+/// The bytes of every EEPROM item of `table` in address order, and the saved Hybrid values: a
+/// cheap fingerprint to notice that non-volatile memory changed without building a ServoState.
 std::vector<std::uint8_t> eeprom_image(const model::ControlTable& table);
 
-/// Sets the EEPROM items of `state` in `table` (device side). Throws ConfigError (origin, JSON
-/// pointer `at`) for an item the model does not have, a read-only or RAM item, or a value outside
-/// the item's range; checks everything before setting anything.
+/// Sets the EEPROM items of `state` in `table` (device side; Hybrid items: present and saved).
+/// Throws ConfigError (origin, JSON pointer `at`) for an item the model does not have, a read-only
+/// or RAM item, or a value outside the item's range; checks everything before setting anything.
 void restore_state(model::ControlTable& table, const ServoState& state, const std::string& origin,
                    const std::string& at);
 

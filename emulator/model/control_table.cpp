@@ -28,6 +28,7 @@ void require_fits(const ItemSpec& item, std::int64_t value) {
 ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
     : spec_(std::move(spec)),
       image_(spec_->table_size(), 0),
+      hybrid_saved_(spec_->items.size(), 0),
       item_at_(spec_->table_size(), kNoItem),
       indirect_address_(spec_->table_size(), kNoItem),
       read_hooks_(spec_->items.size()),
@@ -58,9 +59,48 @@ void ControlTable::load_initial(bool eeprom) {
       if ((item.area == Area::Eeprom && !eeprom) || item.initial_from.has_value() != copies) {
         continue;
       }
-      set(i, item.initial_from ? get(*item.initial_from) : item.initial);
+      const std::int64_t initial = item.initial_from ? get(*item.initial_from) : item.initial;
+      if (item.area == Area::Hybrid) {
+        // _includes/en/dxl/y/control_table_170_hybrid_save.md (ROBOTIS-GIT/emanual): unsaved
+        // Hybrid values are lost at reboot or power-off; a factory reset restores the initial.
+        if (eeprom) {
+          hybrid_saved_[i] = initial;
+        }
+        set(i, hybrid_saved_[i]);
+        continue;
+      }
+      set(i, initial);
     }
   }
+}
+
+void ControlTable::save_hybrid() {
+  for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+    if (spec_->items[i].area == Area::Hybrid && hybrid_saved_[i] != get(i)) {
+      hybrid_saved_[i] = get(i);
+      ++eeprom_changes_;  // saved values are non-volatile: a state file keeps them
+    }
+  }
+}
+
+void ControlTable::restore_hybrid(std::size_t item, std::int64_t value) {
+  if (spec_->items.at(item).area != Area::Hybrid) {
+    throw std::invalid_argument(describe_item(spec_->items[item]) + " is not a Hybrid item");
+  }
+  set(item, value);
+  if (hybrid_saved_[item] != value) {
+    hybrid_saved_[item] = value;
+    ++eeprom_changes_;
+  }
+}
+
+bool ControlTable::hybrid_changed() const {
+  for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+    if (spec_->items[i].area == Area::Hybrid && get(i) != hybrid_saved_[i]) {
+      return true;
+    }
+  }
+  return false;
 }
 
 std::optional<std::uint16_t> ControlTable::resolve(std::uint16_t address) const {

@@ -42,8 +42,21 @@ class ControlTable {
   const ModelSpec& spec() const { return *spec_; }
 
   /// Power-on or reboot: RAM items (and EEPROM items too when `eeprom` is true, as a factory reset
-  /// does) return to their initial values. No hooks run.
+  /// does) return to their initial values, Hybrid items to their saved values (with `eeprom`, to
+  /// their initial values, which become the saved ones). No hooks run.
   void load_initial(bool eeprom);
+
+  /// Hybrid Save: the Hybrid items' present values become the ones power-on and reboot restore.
+  void save_hybrid();
+
+  /// True while a Hybrid item differs from its saved value.
+  bool hybrid_changed() const;
+
+  /// The value a reboot restores to Hybrid item `item` (the last saved one).
+  std::int64_t hybrid_saved(std::size_t item) const { return hybrid_saved_.at(item); }
+
+  /// Device side: Hybrid item `item` holds `value`, saved (a state file restored at start).
+  void restore_hybrid(std::size_t item, std::int64_t value);
 
   /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
   /// and a read may start or end inside an item; a read past the end of the table is an Access
@@ -113,8 +126,9 @@ class ControlTable {
   /// True when `value` fits `item`'s size and signedness: what set() and encoded() accept.
   static bool fits(const ItemSpec& item, std::int64_t value);
 
-  /// How many times an EEPROM byte has changed since the table was made (by a bus write, a
-  /// device-side set or a copy): equal counts mean an unchanged EEPROM, without comparing it.
+  /// How many times an EEPROM byte or a saved Hybrid value has changed since the table was made
+  /// (by a bus write, a device-side set, a copy or a Hybrid Save): equal counts mean unchanged
+  /// non-volatile memory, without comparing it.
   std::uint64_t eeprom_changes() const { return eeprom_changes_; }
 
  private:
@@ -136,8 +150,9 @@ class ControlTable {
 
   std::shared_ptr<const ModelSpec> spec_;
   std::vector<std::uint8_t> image_;
-  std::vector<int> item_at_;           // address -> item index, -1 for reserved bytes
-  std::vector<int> indirect_address_;  // address -> item index of its Indirect Address, or -1
+  std::vector<std::int64_t> hybrid_saved_;  // item -> saved value (Hybrid items only)
+  std::vector<int> item_at_;                // address -> item index, -1 for reserved bytes
+  std::vector<int> indirect_address_;       // address -> item index of its Indirect Address, or -1
   std::vector<std::vector<ReadHook>> read_hooks_;
   std::vector<std::vector<WriteHook>> write_hooks_;
   std::vector<std::vector<Validator>> validators_;

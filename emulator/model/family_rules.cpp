@@ -53,6 +53,46 @@ void install_bus_watchdog(ControlTable& table) {
   }
 }
 
+// Hybrid Save(170) values (_includes/en/dxl/y/control_table_170_hybrid_save.md of
+// ROBOTIS-GIT/emanual): 0 Changed (unsaved Hybrid values), 1 Save Request, 2 Saved.
+constexpr std::int64_t kHybridChanged = 0;
+constexpr std::int64_t kHybridSaveRequest = 1;
+constexpr std::int64_t kHybridSaved = 2;
+
+// DYNAMIXEL-Y: Hybrid items are written like RAM and survive a reboot once saved: writing 1 to
+// Hybrid Save stores them ("'1' can be used when the Torque Enable(512) value is '0'"), and
+// Hybrid Save then reads 2 until a Hybrid item changes again (0).
+void install_hybrid_save(ControlTable& table) {
+  const ModelSpec& spec = table.spec();
+  const auto save = spec.index_of("hybrid_save");
+  if (!save) {
+    return;
+  }
+  const auto torque = spec.index_of("torque_enable");
+  table.add_validator("hybrid_save", [&table, torque](std::size_t, std::int64_t v) {
+    if (v == kHybridSaveRequest && torque && table.get(*torque) != 0) {
+      return TableResult::fail(TableError::ResultFail,
+                               "Hybrid Save takes a save request only while Torque Enable is 0");
+    }
+    return TableResult{};
+  });
+  const auto show_state = [&table, save = *save] {
+    table.set(save, table.hybrid_changed() ? kHybridChanged : kHybridSaved);
+  };
+  table.on_write("hybrid_save", [&table, show_state](std::size_t, std::int64_t, std::int64_t v) {
+    if (v == kHybridSaveRequest) {
+      table.save_hybrid();
+    }
+    show_state();
+  });
+  for (const ItemSpec& item : spec.items) {
+    if (item.area == Area::Hybrid) {
+      table.on_write(item.key,
+                     [show_state](std::size_t, std::int64_t, std::int64_t) { show_state(); });
+    }
+  }
+}
+
 }  // namespace
 
 void install_family_rules(ControlTable& table) {
@@ -60,6 +100,7 @@ void install_family_rules(ControlTable& table) {
     install_angle_limit(table);
   }
   install_bus_watchdog(table);
+  install_hybrid_save(table);
 }
 
 }  // namespace dxlemu::model

@@ -81,6 +81,37 @@ constexpr FamilyTraits kProA = [] {
   return row;
 }();
 
+// DYNAMIXEL-Y Error Code values (_includes/en/dxl/y/control_table_153_error_code.md of
+// ROBOTIS-GIT/emanual): 1 Over Voltage, 2 Low Voltage, 4 Motor Overheating, 5 Overload,
+// 7 Inverter Error (the nearest to an electrical shock), 13 Encoder Error, 14 Hall Sensor Error,
+// 18 Bus Watchdog Error.
+constexpr ErrorCodes kYErrorCodes = {.over_voltage = 1,
+                                     .low_voltage = 2,
+                                     .overheating = 4,
+                                     .overload = 5,
+                                     .electrical_shock = 7,
+                                     .encoder = 13,
+                                     .hall_sensor = 14,
+                                     .bus_watchdog = 18};
+
+// DYNAMIXEL-Y: the P rules where its pages are silent (docs/families.md "DYNAMIXEL-Y"), with
+// Operating Mode 0, 1, 3 only (Goal Position within the position limits, no extended range),
+// a multi-turn position kept over power cycles ("DYNAMIXEL-Y stores persistent Multi-turn
+// information"), Drive Mode without the Torque On by Goal Update bit, Error Code instead of
+// Shutdown / Hardware Error Status, and no Fast Sync/Bulk Read (protocol2.md lists no Y servo).
+constexpr FamilyTraits kY = [] {
+  FamilyTraits row = with_name(kP, Family::Y, "y");
+  row.extended_goals = ExtendedGoals::ItemRange;
+  row.torque_on_by_goal = TorqueOnByGoal::Never;
+  row.one_turn_at_boot_and_torque_on = false;
+  row.error_reaction = ErrorReaction::ErrorCode;
+  row.fault_bits = {};
+  row.error_codes = kYErrorCodes;
+  row.moving_status_motion_and_range = true;
+  row.fast_read = FastRead::None;
+  return row;
+}();
+
 // AX, and RX, EX and DX like it.
 constexpr FamilyTraits kAx = {.family = Family::Ax,
                               .name = "ax",
@@ -112,7 +143,7 @@ constexpr FamilyTraits kXl320 = {.family = Family::Xl320,
                                  .fault_bits = kXl320FaultBits};
 
 // In the order of `Family`: traits_of() indexes it.
-constexpr std::array<FamilyTraits, 11> kFamilies = {
+constexpr std::array<FamilyTraits, 12> kFamilies = {
     kX,
     kMx2,
     kMx1,
@@ -124,6 +155,7 @@ constexpr std::array<FamilyTraits, 11> kFamilies = {
     kPro,
     with_name(kAx, Family::Dx, "dx"),
     kProA,
+    kY,
 };
 
 constexpr bool rows_in_family_order() {

@@ -11,7 +11,7 @@ namespace dxlemu::model {
 
 /// Behaviour family: which rules of the e-Manual a model follows beyond its control table. Each
 /// family is one row of the traits table (family_traits.cpp), in this order.
-enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro, Dx, ProA };
+enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro, Dx, ProA, Y };
 
 /// How a family's goal items select a control mode and move the motor, and how the motor shows
 /// in its Present motion items: one implementation of model/drive.hpp each.
@@ -64,6 +64,10 @@ enum class ErrorReaction {
   /// An error selected in Shutdown latches in Hardware Error Status and turns torque off; only a
   /// reboot clears it (includes/control_table_shutdown.md).
   LatchedShutdown,
+  /// DYNAMIXEL-Y: no Shutdown item; every detected error turns torque off and latches its number
+  /// in Error Code(153), the last ones kept in Error Code History; only a reboot clears it here
+  /// (the Error Clear packet is not emulated). FamilyTraits::error_codes gives the numbers.
+  ErrorCode,
 };
 
 /// Which models of a family take part in Fast Sync Read and Fast Bulk Read.
@@ -83,6 +87,21 @@ struct FaultBits {
   std::uint8_t electrical_shock = 0;  ///< Electrical Shock Error
   std::uint8_t encoder = 0;           ///< Motor Encoder Error
   std::uint8_t hall_sensor = 0;       ///< Motor Hall Sensor Error
+};
+
+/// The Error Code(153) value of each hardware error (ErrorReaction::ErrorCode); 0: the family
+/// cannot report it.
+struct ErrorCodes {
+  std::uint8_t over_voltage = 0;      ///< supply above Max Voltage Limit
+  std::uint8_t low_voltage = 0;       ///< supply below Min Voltage Limit
+  std::uint8_t overheating = 0;       ///< winding above the (motor) Temperature Limit
+  std::uint8_t overload = 0;          ///< Overload Error
+  std::uint8_t electrical_shock = 0;  ///< the family's nearest error to Electrical Shock
+  std::uint8_t encoder = 0;           ///< Encoder Error
+  std::uint8_t hall_sensor = 0;       ///< Hall Sensor Error
+  /// Bus Watchdog Error: unlike the others it keeps torque on ("Torque ON: Y") and is cleared by
+  /// writing 0 to Bus Watchdog.
+  std::uint8_t bus_watchdog = 0;
 };
 
 /// Everything a family does differently from the others that its model files cannot say. One
@@ -120,6 +139,11 @@ struct FamilyTraits {
   ErrorReaction error_reaction = ErrorReaction::LatchedShutdown;
   /// Where each hardware error shows.
   FaultBits fault_bits = {};
+  /// The Error Code of each hardware error (ErrorReaction::ErrorCode).
+  ErrorCodes error_codes = {};
+  /// Moving Status also reports Moving (bit 2) and Position In Range (bit 6: Present Position
+  /// within Min/Max Position Limit), as DYNAMIXEL-Y does; otherwise those bits stay 0.
+  bool moving_status_motion_and_range = false;
   /// Protocol 1.0 generation firmware (AX, RX, EX, MX 1.0): Baud Rate values its table does not
   /// list run at 2,000,000 / (n + 1) bps (includes/control_table_baudrate.md).
   bool protocol1_firmware = false;

@@ -100,10 +100,15 @@ PendingItem read_item(const JsonNode& n) {
   }
   s.access = access == "R" ? Access::ReadOnly : Access::ReadWrite;
   const std::string area = n.at("area").string();
-  if (area != "EEPROM" && area != "RAM") {
-    n.at("area").fail("must be \"EEPROM\" or \"RAM\", got \"" + area + "\"");
+  if (area == "EEPROM") {
+    s.area = Area::Eeprom;
+  } else if (area == "RAM") {
+    s.area = Area::Ram;
+  } else if (area == "Hybrid") {
+    s.area = Area::Hybrid;
+  } else {
+    n.at("area").fail("must be \"EEPROM\", \"RAM\" or \"Hybrid\", got \"" + area + "\"");
   }
-  s.area = area == "EEPROM" ? Area::Eeprom : Area::Ram;
   s.is_signed = n.has("signed") && n.child("signed").boolean();
   const auto [lo, hi] = full_range(s.size, s.is_signed);
   s.min = n.has("min") ? n.child("min").integer(lo, hi) : lo;

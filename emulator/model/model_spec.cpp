@@ -1,9 +1,30 @@
 #include "model/model_spec.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <stdexcept>
 
 namespace dxlemu::model {
+
+std::optional<double> unit_figure(std::string_view unit) {
+  constexpr std::string_view kAbout = "about";
+  while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.front())) != 0) {
+    unit.remove_prefix(1);
+  }
+  if (unit.starts_with(kAbout)) {
+    unit.remove_prefix(kAbout.size());
+    while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.front())) != 0) {
+      unit.remove_prefix(1);
+    }
+  }
+  double figure = 0;
+  const auto [end, error] = std::from_chars(unit.data(), unit.data() + unit.size(), figure);
+  if (error != std::errc{} || end == unit.data() || figure <= 0) {
+    return std::nullopt;
+  }
+  return figure;
+}
 
 bool ItemSpec::in_range(std::int64_t value) const {
   if (value < min || value > max) {

@@ -15,8 +15,17 @@
 namespace dxlemu::model {
 
 /// Where an item lives: EEPROM keeps its value across power cycles and is write-locked while
-/// torque is on; RAM returns to its initial value at power-on.
-enum class Area { Eeprom, Ram };
+/// torque is on; RAM returns to its initial value at power-on. Hybrid (DYNAMIXEL-Y) is written
+/// like RAM, torque on or off, and returns at power-on to the values last saved through Hybrid
+/// Save(170) (docs/families.md "DYNAMIXEL-Y").
+enum class Area { Eeprom, Ram, Hybrid };
+
+/// Volts per unit of a voltage item whose unit names none (every 0.1 V page).
+inline constexpr double kDefaultVoltageUnitV = 0.1;
+
+/// The figure a unit string starts with ("0.01 [V]" -> 0.01, "about 0.229 [rev/min]" ->
+/// 0.229), or nullopt when it starts with none.
+std::optional<double> unit_figure(std::string_view unit);
 
 /// Whether the bus may write an item.
 enum class Access { ReadOnly, ReadWrite };

@@ -22,8 +22,12 @@ using Ms = std::chrono::duration<double, std::milli>;
 /// magnitudes, with bit 10 for the CW (negative) direction where they have one.
 inline constexpr std::int64_t kV1Magnitude = 1023;
 inline constexpr std::int64_t kV1Cw = 1024;
-/// Present Input Voltage and the voltage limits count 0.1 V.
+/// The voltage limits count 0.1 V (Present Input Voltage: MotionItems::voltage_counts_per_v).
 inline constexpr double kDeciVolt = 10;
+/// DYNAMIXEL-Y Moving Status bits beyond the X and P ones: Moving, Position In Range
+/// (_includes/en/dxl/y/control_table_541_moving_status.md of ROBOTIS-GIT/emanual).
+inline constexpr std::int64_t kMovingStatusMoving = 0x04;
+inline constexpr std::int64_t kMovingStatusInRange = 0x40;
 /// Drive Mode bits (includes/control_table_drivemode.md).
 inline constexpr std::int64_t kDriveModeReverse = 0x01;
 inline constexpr std::int64_t kDriveModeTimeBased = 0x04;

@@ -1,6 +1,7 @@
 #include "model/motion_items.hpp"
 
 #include <initializer_list>
+#include <string>
 
 namespace dxlemu::model {
 
@@ -18,6 +19,8 @@ MotionItems::MotionItems(const ModelSpec& s)
       profile_velocity(s.index_of("profile_velocity")),
       profile_acceleration(s.index_of("profile_acceleration")),
       moving_speed(s.index_of("moving_speed")),
+      profile_time(s.index_of("profile_time")),
+      profile_acceleration_time(s.index_of("profile_acceleration_time")),
       torque_limit(s.index_of("torque_limit")),
       current_limit(s.index_of("current_limit")),
       pwm_limit(s.index_of("pwm_limit")),
@@ -27,11 +30,16 @@ MotionItems::MotionItems(const ModelSpec& s)
       cw_angle_limit(s.index_of("cw_angle_limit")),
       ccw_angle_limit(s.index_of("ccw_angle_limit")),
       moving_threshold(s.index_of("moving_threshold")),
-      temperature_limit(s.index_of("temperature_limit")),
+      min_position_limit(s.index_of("min_position_limit")),
+      max_position_limit(s.index_of("max_position_limit")),
+      temperature_limit(s.index_of("temperature_limit") ? s.index_of("temperature_limit")
+                                                        : s.index_of("motor_temperature_limit")),
       min_voltage_limit(s.index_of("min_voltage_limit")),
       max_voltage_limit(s.index_of("max_voltage_limit")),
       shutdown(s.index_of("shutdown")),
       hardware_error_status(s.index_of("hardware_error_status")),
+      error_code(s.index_of("error_code")),
+      controller_state(s.index_of("controller_state")),
       present_position(s.index_of("present_position")),
       present_velocity(s.index_of("present_velocity")),
       present_speed(s.index_of("present_speed")),
@@ -46,12 +54,29 @@ MotionItems::MotionItems(const ModelSpec& s)
       moving_status(s.index_of("moving_status")),
       present_voltage(s.index_of("present_input_voltage") ? s.index_of("present_input_voltage")
                                                           : s.index_of("present_voltage")),
-      present_temperature(s.index_of("present_temperature")),
+      present_temperature(s.index_of("present_temperature")
+                              ? s.index_of("present_temperature")
+                              : s.index_of("present_motor_temperature")),
       realtime_tick(s.index_of("realtime_tick")),
       cw_compliance_margin(s.index_of("cw_compliance_margin")),
       ccw_compliance_margin(s.index_of("ccw_compliance_margin")),
       cw_compliance_slope(s.index_of("cw_compliance_slope")),
-      ccw_compliance_slope(s.index_of("ccw_compliance_slope")) {}
+      ccw_compliance_slope(s.index_of("ccw_compliance_slope")) {
+  for (int n = 1;; ++n) {
+    const auto history = s.index_of("error_code_history_" + std::to_string(n));
+    if (!history) {
+      break;
+    }
+    error_code_history.push_back(*history);
+  }
+  if (profile_time) {
+    profile_time_unit_ms = unit_figure(s.items[*profile_time].unit).value_or(1);
+  }
+  if (present_voltage) {
+    voltage_counts_per_v =
+        1 / unit_figure(s.items[*present_voltage].unit).value_or(kDefaultVoltageUnitV);
+  }
+}
 
 namespace {
 

@@ -19,19 +19,37 @@ struct MotionItems {
   std::optional<std::size_t> operating_mode, control_mode, drive_mode, torque_enable, goal_position,
       goal_velocity, goal_current, goal_torque, goal_pwm, goal_acceleration, profile_velocity,
       profile_acceleration, moving_speed;
+  // DYNAMIXEL-Y's time-based profile: its own items, used instead of Profile Velocity and
+  // Profile Acceleration when Drive Mode selects a time-based profile.
+  std::optional<std::size_t> profile_time, profile_acceleration_time;
   // Limits and offsets.
   std::optional<std::size_t> torque_limit, current_limit, pwm_limit, velocity_limit, homing_offset,
-      multi_turn_offset, cw_angle_limit, ccw_angle_limit, moving_threshold;
-  // Protection.
+      multi_turn_offset, cw_angle_limit, ccw_angle_limit, moving_threshold, min_position_limit,
+      max_position_limit;
+  // Protection. `temperature_limit` is Motor Temperature Limit where the model has no single one
+  // (DYNAMIXEL-Y); `error_code`, `error_code_history` and `controller_state` are DYNAMIXEL-Y's.
   std::optional<std::size_t> temperature_limit, min_voltage_limit, max_voltage_limit, shutdown,
-      hardware_error_status;
+      hardware_error_status, error_code, controller_state;
+  /// Error Code History 1, 2, ... (oldest first), as many as the model has.
+  std::vector<std::size_t> error_code_history;
   // Present values. `current` is MX 1.0 Current(68), a reading although the page makes it RW.
+  // `present_temperature` is Present Motor Temperature where the model has no single one (the
+  // winding is what the motor model heats; DYNAMIXEL-Y's Present Inverter Temperature stays at
+  // its power-on value).
   std::optional<std::size_t> present_position, present_velocity, present_speed, present_current,
       present_load, present_pwm, sensed_current, current, velocity_trajectory, position_trajectory,
       moving, moving_status, present_voltage, present_temperature, realtime_tick;
   // Compliance (AX, RX, EX).
   std::optional<std::size_t> cw_compliance_margin, ccw_compliance_margin, cw_compliance_slope,
       ccw_compliance_slope;
+
+  /// Counts of `present_voltage` per volt: 1 / its unit's figure ("0.01 [V]": 100), else 10
+  /// (0.1 V, the unit of every page that prints none). Kept as counts per volt so that readings
+  /// convert exactly (127 / 10 is 12.7; 127 * 0.1 is not).
+  double voltage_counts_per_v = 1 / kDefaultVoltageUnitV;
+  /// Milliseconds per unit of `profile_time` and `profile_acceleration_time`: their unit's
+  /// figure (DYNAMIXEL-Y: "0.2 [ms]"), else 1.
+  double profile_time_unit_ms = 1;
 
   /// The Present values above that the model has: every item the motion model writes.
   std::vector<std::size_t> readings() const;

@@ -30,8 +30,8 @@ MotionModel::MotionModel(ControlTable& table, sim::SimDuration tick)
         static_cast<double>(spec.items[*items.present_temperature].initial);
   }
   if (items.present_voltage) {
-    motion_.conditions.supply_v =
-        static_cast<double>(spec.items[*items.present_voltage].initial) / kDeciVolt;
+    motion_.conditions.supply_v = static_cast<double>(spec.items[*items.present_voltage].initial) /
+                                  items.voltage_counts_per_v;
   }
   motion_.motor.set_temperature(motion_.conditions.ambient_c);
   if (items.present_position) {
@@ -196,6 +196,7 @@ void MotionModel::republish() {
 void MotionModel::stop() {
   drive_->stop_goals();
   hold();
+  protection_.report_bus_watchdog();
 }
 
 void MotionModel::clear_turns() {

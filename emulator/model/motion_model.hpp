@@ -66,7 +66,8 @@ class MotionModel {
   /// winding and the supply again.
   void republish();
 
-  /// Bus Watchdog expiry: stop and hold where the shaft is.
+  /// Bus Watchdog expiry: stop and hold where the shaft is; DYNAMIXEL-Y also reports Bus Watchdog
+  /// Error in Error Code.
   void stop();
 
   /// Clear instruction: the position goes back within one turn.

@@ -20,13 +20,12 @@ constexpr double kOverloadMs = 1'000;
 constexpr double kMsPerMinute = 60'000;
 constexpr double kDegreesPerRev = 360;
 constexpr double kMilli = 1e-3;
-constexpr double kDeciVolt = 0.1;
-
 // The power-on value of the input-voltage item, in volts: the supply a model file assumes.
 std::optional<double> initial_voltage(const ModelSpec& spec) {
   for (const char* key : {"present_input_voltage", "present_voltage"}) {
     if (const ItemSpec* item = spec.find(key)) {
-      return static_cast<double>(item->initial) * kDeciVolt;
+      return static_cast<double>(item->initial) *
+             unit_figure(item->unit).value_or(kDefaultVoltageUnitV);
     }
   }
   return std::nullopt;

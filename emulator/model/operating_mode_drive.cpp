@@ -20,6 +20,7 @@ constexpr std::int64_t kModePwm = 16;
 constexpr std::int64_t kInPosition = 0x01;
 constexpr std::int64_t kProfileOngoing = 0x02;
 constexpr std::int64_t kFollowingError = 0x08;
+// DYNAMIXEL-Y adds kMovingStatusMoving and kMovingStatusInRange (motion_context.hpp).
 
 // In position: within this share of a turn of Goal Position once the profile is over. Following
 // error: further than this share of a turn from the trajectory (docs/motion.md: chosen).
@@ -126,8 +127,15 @@ class OperatingModeDrive final : public Drive {
       motion_.plan_at_speed(goal, motion_.fastest_acceleration());
       return;
     }
-    const auto velocity = static_cast<double>(motion_.get(items.profile_velocity));
-    const auto acceleration = static_cast<double>(motion_.get(items.profile_acceleration));
+    const bool time_based = (motion_.get(items.drive_mode) & kDriveModeTimeBased) != 0;
+    auto velocity = static_cast<double>(motion_.get(items.profile_velocity));
+    auto acceleration = static_cast<double>(motion_.get(items.profile_acceleration));
+    if (time_based && items.profile_time) {
+      // DYNAMIXEL-Y: "a time-based profile is created using Profile Acceleration Time(248) and
+      // Profile Time(252)"; Profile Time 0 deactivates the profile.
+      velocity = time_ms(items.profile_time);
+      acceleration = time_ms(items.profile_acceleration_time);
+    }
     motion_.profile_start = motion_.state_time;
     if (velocity == 0) {
       // No profile: the motor goes as fast as it can (Moving Status reports no profile).
@@ -138,7 +146,7 @@ class OperatingModeDrive final : public Drive {
       return;
     }
     motion_.step_profile = false;
-    if ((motion_.get(items.drive_mode) & kDriveModeTimeBased) != 0) {
+    if (time_based) {
       motion_.profile = Profile::time_based(s.position, s.velocity, goal, velocity, acceleration);
       return;
     }
@@ -208,21 +216,30 @@ class OperatingModeDrive final : public Drive {
     }
     // includes/control_table_moving_2.md: Moving when |Present Velocity| > Moving Threshold, or
     // while a profile runs.
-    motion_.put(items.moving,
-                running || std::abs(velocity) > motion_.get(items.moving_threshold) ? 1 : 0);
-    publish_moving_status(running, positional);
+    const bool moving = running || std::abs(velocity) > motion_.get(items.moving_threshold);
+    motion_.put(items.moving, moving ? 1 : 0);
+    publish_moving_status(running, positional, moving);
   }
 
  private:
+  /// A time item (DYNAMIXEL-Y Profile Time / Profile Acceleration Time) in milliseconds.
+  double time_ms(const std::optional<std::size_t>& item) const {
+    return static_cast<double>(motion_.get(item)) * motion_.items.profile_time_unit_ms;
+  }
+
   double ramp_velocity(double goal) {
     // Velocity Control Mode ramps towards Goal Velocity with Profile Acceleration (0: a
     // step); time-based: Profile Acceleration is the time to reach it
     // (includes/control_table_profile_velocity.md, NOTE on Velocity Control Mode).
     const MotorParams& p = motion_.motor.params();
     double& demand = motion_.velocity_demand;
-    const auto acc = static_cast<double>(motion_.get(motion_.items.profile_acceleration));
+    const bool time_based = (motion_.get(motion_.items.drive_mode) & kDriveModeTimeBased) != 0;
+    // DYNAMIXEL-Y: Profile Acceleration Time(248) is the time-based ramp, in Velocity Control too.
+    const double acc = time_based && motion_.items.profile_acceleration_time
+                           ? time_ms(motion_.items.profile_acceleration_time)
+                           : static_cast<double>(motion_.get(motion_.items.profile_acceleration));
     double rate = std::numeric_limits<double>::infinity();
-    if (acc > 0 && (motion_.get(motion_.items.drive_mode) & kDriveModeTimeBased) != 0) {
+    if (acc > 0 && time_based) {
       // A change of Goal Velocity takes Profile Acceleration ms: the rate is set when the goal
       // changes, from the velocity the ramp had then.
       if (goal != ramp_goal_) {
@@ -239,11 +256,21 @@ class OperatingModeDrive final : public Drive {
     return demand;
   }
 
-  void publish_moving_status(bool running, bool positional) {
-    if (!motion_.items.moving_status) {
+  void publish_moving_status(bool running, bool positional, bool moving) {
+    const MotionItems& items = motion_.items;
+    if (!items.moving_status) {
       return;
     }
     std::int64_t status = 0;
+    if (motion_.traits.moving_status_motion_and_range) {
+      // Moving: "Whether the device is rotating"; Position In Range: Present Position within
+      // Min/Max Position Limit, in every mode.
+      const std::int64_t position = motion_.get(items.present_position);
+      const bool in_range = !items.min_position_limit || !items.max_position_limit ||
+                            (position >= motion_.get(items.min_position_limit) &&
+                             position <= motion_.get(items.max_position_limit));
+      status |= (moving ? kMovingStatusMoving : 0) | (in_range ? kMovingStatusInRange : 0);
+    }
     const auto& profile = motion_.profile;
     if (positional && profile) {
       if (!motion_.step_profile) {

@@ -4,7 +4,8 @@ namespace dxlemu::model {
 
 void PresentValues::publish() {
   const MotionItems& items = motion_.items;
-  motion_.put(items.present_voltage, round_to(motion_.conditions.supply_v * kDeciVolt));
+  motion_.put(items.present_voltage,
+              round_to(motion_.conditions.supply_v * items.voltage_counts_per_v));
   motion_.put(items.present_temperature, round_to(motion_.motor.state().temperature_c));
   position_ = motion_.get(items.present_position);
   temperature_ = motion_.get(items.present_temperature);
@@ -27,7 +28,7 @@ bool PresentValues::absorb(const Drive& drive) {
   }
   if (items.present_voltage && table.get(*items.present_voltage) != voltage_) {
     voltage_ = table.get(*items.present_voltage);
-    motion_.conditions.supply_v = static_cast<double>(voltage_) / kDeciVolt;
+    motion_.conditions.supply_v = static_cast<double>(voltage_) / items.voltage_counts_per_v;
     moved = true;
   }
   return moved;

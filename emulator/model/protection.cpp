@@ -1,6 +1,18 @@
 #include "model/protection.hpp"
 
+#include <algorithm>
+
 namespace dxlemu::model {
+namespace {
+
+// DYNAMIXEL-Y Controller State(152) (_includes/en/dxl/y/control_table_152_controller_state.md of
+// ROBOTIS-GIT/emanual). Torque on and off take no time here, so Process Torque ON/OFF (4, 6)
+// and the Dynamic Brake state (3) are never shown.
+constexpr std::int64_t kControllerInverterOff = 2;
+constexpr std::int64_t kControllerRunning = 5;
+constexpr std::int64_t kControllerHwFault = 8;
+
+}  // namespace
 
 void Protection::install_hooks() {
   ControlTable& table = motion_.table;
@@ -16,6 +28,34 @@ void Protection::install_hooks() {
       }
       return TableResult{};
     });
+  }
+  // DYNAMIXEL-Y: "If Torque cannot be enabled, the Result Fail bit ... will be set": an error
+  // that turned torque off (every one Error Code reports here) keeps it off.
+  if (items.torque_enable && items.error_code) {
+    table.add_validator("torque_enable", [this](std::size_t, std::int64_t v) {
+      if (v != 0 && torque_off_error()) {
+        return TableResult::fail(TableError::ResultFail,
+                                 "Torque Enable stays 0 while Error Code holds an error, until "
+                                 "the servo reboots");
+      }
+      return TableResult{};
+    });
+  }
+  // "To resolve the Bus Watchdog Error, you must reset Bus Watchdog(8) to '0'"
+  // (_includes/en/dxl/y/control_table_8_bus_watchdog.md).
+  const std::uint8_t watchdog_code = motion_.traits.error_codes.bus_watchdog;
+  if (items.error_code && watchdog_code != 0 && table.spec().index_of("bus_watchdog")) {
+    table.on_write("bus_watchdog",
+                   [this, watchdog_code](std::size_t, std::int64_t, std::int64_t v) {
+                     if (v == 0 && motion_.get(motion_.items.error_code) == watchdog_code) {
+                       motion_.put(motion_.items.error_code, 0);
+                       publish_controller_state();
+                     }
+                   });
+  }
+  if (items.torque_enable && items.controller_state) {
+    table.on_write("torque_enable",
+                   [this](std::size_t, std::int64_t, std::int64_t) { publish_controller_state(); });
   }
   if (items.torque_limit && motion_.traits.error_reaction == ErrorReaction::AlarmShutdown) {
     // Alarm Shutdown zeroes Torque Limit; writing it again makes the motor usable
@@ -54,6 +94,9 @@ void Protection::check() {
     case ErrorReaction::LatchedShutdown:
       latch(active);
       return;
+    case ErrorReaction::ErrorCode:
+      latch_error_code(active, volts);
+      return;
   }
 }
 
@@ -89,6 +132,90 @@ void Protection::latch(FaultSet active) {
   }
 }
 
+void Protection::latch_error_code(FaultSet active, double volts) {
+  // DYNAMIXEL-Y: every error this emulator detects is one whose Error Code row says Torque ON
+  // 'N': it turns torque off and its number stays in Error Code (the most recent error) until
+  // a reboot.
+  const MotionItems& items = motion_.items;
+  const ErrorCodes& codes = motion_.traits.error_codes;
+  const bool over_voltage =
+      items.max_voltage_limit && volts > static_cast<double>(motion_.get(items.max_voltage_limit));
+  const std::pair<HardwareFault, std::uint8_t> by_fault[] = {
+      {HardwareFault::InputVoltage, over_voltage ? codes.over_voltage : codes.low_voltage},
+      {HardwareFault::Overheating, codes.overheating},
+      {HardwareFault::Overload, codes.overload},
+      {HardwareFault::ElectricalShock, codes.electrical_shock},
+      {HardwareFault::Encoder, codes.encoder},
+      {HardwareFault::HallSensor, codes.hall_sensor},
+  };
+  for (const auto& [fault, code] : by_fault) {
+    if ((active & fault_set(fault)) == 0 || code == 0) {
+      continue;
+    }
+    if (motion_.get(items.error_code) == code) {
+      continue;  // already reported; "The same error does not occur multiple times"
+    }
+    record_error_code(code);
+    if (motion_.torque_on()) {
+      motion_.table.set(*items.torque_enable, 0);
+      motion_.profile.reset();
+      motion_.velocity_demand = 0;
+    }
+    at_limit_ms_ = 0;
+  }
+  publish_controller_state();
+}
+
+void Protection::report_bus_watchdog() {
+  const std::uint8_t code = motion_.traits.error_codes.bus_watchdog;
+  if (code != 0 && motion_.items.error_code && !torque_off_error()) {
+    record_error_code(code);  // torque stays on; the goals are refused until it is cleared
+    publish_controller_state();
+  }
+}
+
+bool Protection::torque_off_error() const {
+  const std::int64_t code = motion_.get(motion_.items.error_code);
+  return code != 0 && code != motion_.traits.error_codes.bus_watchdog;
+}
+
+void Protection::record_error_code(std::uint8_t code) {
+  // _includes/en/dxl/y/control_table_error_code_history.md: Error Code shows the most recent
+  // error; History 1 ~ 16 keep the errors in order, oldest first, each once, the oldest dropped
+  // when a 17th comes.
+  const MotionItems& items = motion_.items;
+  motion_.put(items.error_code, code);
+  const std::vector<std::size_t>& history = items.error_code_history;
+  ControlTable& table = motion_.table;
+  if (std::any_of(history.begin(), history.end(),
+                  [&](std::size_t slot) { return table.get(slot) == code; })) {
+    return;
+  }
+  const auto free = std::find_if(history.begin(), history.end(),
+                                 [&](std::size_t slot) { return table.get(slot) == 0; });
+  if (free != history.end()) {
+    table.set(*free, code);
+    return;
+  }
+  for (std::size_t i = 0; i + 1 < history.size(); ++i) {
+    table.set(history[i], table.get(history[i + 1]));
+  }
+  if (!history.empty()) {
+    table.set(history.back(), code);
+  }
+}
+
+void Protection::publish_controller_state() {
+  const MotionItems& items = motion_.items;
+  if (!items.controller_state) {
+    return;
+  }
+  const std::int64_t state = torque_off_error()    ? kControllerHwFault
+                             : motion_.torque_on() ? kControllerRunning
+                                                   : kControllerInverterOff;
+  motion_.put(items.controller_state, state);
+}
+
 std::uint8_t Protection::v1_error_bits() const {
   const MotionItems& items = motion_.items;
   if (!items.hardware_error_status) {
@@ -109,6 +236,7 @@ std::uint8_t Protection::v1_error_bits() const {
 void Protection::reset() {
   overload_latched_ = false;
   at_limit_ms_ = 0;
+  publish_controller_state();  // Startup Configuration may have turned torque on
 }
 
 }  // namespace dxlemu::model

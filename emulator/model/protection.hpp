@@ -10,7 +10,8 @@ namespace dxlemu::model {
 /// Detects one servo's hardware errors after each tick (supply voltage outside its limits,
 /// winding over Temperature Limit, the motor at its torque limit for the Overload time, and the
 /// errors forced from outside) and reacts as its family does (FamilyTraits::error_reaction):
-/// Alarm Shutdown or a latched Shutdown. docs/motion.md "Hardware errors".
+/// Alarm Shutdown, a latched Shutdown, or DYNAMIXEL-Y's Error Code. Keeps DYNAMIXEL-Y's
+/// Controller State(152) in step with torque and errors. docs/motion.md "Hardware errors".
 class Protection {
  public:
   /// Protection working on `motion`, which must outlive it.
@@ -33,12 +34,20 @@ class Protection {
   /// of the last check, or a 2.0 model's latched errors in the 1.0 bits.
   std::uint8_t v1_error_bits() const;
 
-  /// Power-on or reboot: no Overload building up or latched.
+  /// Bus Watchdog expiry, where the family reports it in Error Code (ErrorCodes::bus_watchdog).
+  void report_bus_watchdog();
+
+  /// Power-on or reboot: no Overload building up or latched; Controller State shows torque.
   void reset();
 
  private:
+  /// True while Error Code holds an error that keeps torque off (every one but Bus Watchdog).
+  bool torque_off_error() const;
   void alarm_shutdown(FaultSet active);
   void latch(FaultSet active);
+  void latch_error_code(FaultSet active, double volts);
+  void record_error_code(std::uint8_t code);
+  void publish_controller_state();
 
   MotionContext& motion_;
   FaultSet injected_ = 0;

@@ -54,7 +54,8 @@ Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDur
   items_.return_delay_time = table_.index("return_delay_time");
   // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
   items_.protocol = item({"protocol_type", "protocol_version"});
-  items_.hardware_error_status = item({"hardware_error_status"});
+  // DYNAMIXEL-Y reports its errors in Error Code(153): the status packet's Alert bit follows it.
+  items_.hardware_error_status = item({"hardware_error_status", "error_code"});
   items_.status_return_level = item({"status_return_level"});
   items_.secondary_id = item({"secondary_id"});
   items_.bus_watchdog = item({"bus_watchdog"});
@@ -358,7 +359,12 @@ ServoResponse Servo::do_clear(const wire::Clear& clear) {
     return r;
   }
   // "The Clear instruction can only be executed when the DYNAMIXEL is stopped" (protocol2.md).
-  if (const auto moving = item({"moving"}); moving && table_.get(*moving) != 0) {
+  // DYNAMIXEL-Y has no Moving item: its Moving Status says so (bit 2).
+  const auto moving = item({"moving"});
+  const auto status = item({"moving_status"});
+  const bool y_moving = !moving && status && spec().traits().moving_status_motion_and_range &&
+                        (table_.get(*status) & kMovingStatusMoving) != 0;
+  if ((moving && table_.get(*moving) != 0) || y_moving) {
     r.error = error_byte_v2(wire::StatusError::ResultFail);
     return r;
   }

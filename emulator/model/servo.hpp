@@ -163,7 +163,7 @@ class Servo {
     std::size_t baud_rate = 0;
     std::size_t return_delay_time = 0;
     std::optional<std::size_t> protocol;  // Protocol Type (Protocol Version on MX(2.0))
-    std::optional<std::size_t> hardware_error_status;
+    std::optional<std::size_t> hardware_error_status;  // DYNAMIXEL-Y: Error Code
     std::optional<std::size_t> status_return_level;
     std::optional<std::size_t> secondary_id;
     std::optional<std::size_t> bus_watchdog;

@@ -26,9 +26,15 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
     build_items(d, fw)
 
     model_number = d.by_key["model_number"].initial
-    if str(model_number) != d.tsv["model_number"]:
+    # models.tsv gives '4040 (Protocol 2.0); 4041 (Modbus)' where the page prints both numbers
+    tsv_number = re.sub(r"\s*\(Protocol 2\.0\);.*$", "", d.tsv["model_number"])
+    if str(model_number) != tsv_number:
         raise ValueError(f"{d.name}: model number {model_number} != models.tsv {d.tsv['model_number']}")
     d.notes.insert(0, fw_note)
+    if d.page.modbus_only:
+        d.notes.append(f"items: the page's table also lists {', '.join(d.page.modbus_only)} with Address "
+                       "'N/A' and a Modbus address only; dxlemu speaks DYNAMIXEL Protocol 2.0 only (no Modbus-RTU), "
+                       "so they are no items, and the Modbus Address column is not read")
     rates, default_baud = baud_rates(d)
     figures, timing_note = d.lookup(TIMING)
     d.notes += [timing_note, BOOT_NOTE, RETURN_DELAY_NOTE]

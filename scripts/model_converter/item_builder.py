@@ -12,10 +12,11 @@ from . import item_ranges
 from .decisions.catalogue import P2_FAMILIES, classify
 from .decisions.item_rules import (ANGLE_LIMIT_FAMILIES, BAUD_RATE_VALUES, BORROWED_ROW_NOTE, BUS_WATCHDOG_FAMILIES,
                                    INITIAL_OVERRIDES, INITIAL_RULES, KEY_ALIASES, MID_POSITION, OPMODE_BLOCKS,
+                                   OPMODE_VALUES,
                                    PROTOCOL_TYPE_BLOCKS, SIGNED_MODEL_NOTES, SIGNED_READBACK,
                                    SIGNED_READBACK_FAMILIES, TWIN_PAGES, ZERO_REASONS, InitialRule)
 from .items import Draft, Item
-from .markdown import clean_cell, clean_unit, parse_int, snake_key, tables_in
+from .markdown import clean_cell, clean_unit, parse_int, snake_key, tables_in, unit_number
 from .page import Row, read_page
 
 
@@ -54,6 +55,11 @@ def make_items(d: Draft):
         keys_seen[key] = row
         if row.borrowed:
             item.notes.append(BORROWED_ROW_NOTE.format(donor=row.borrowed))
+        if row.by_protocol:
+            mark = ", with footnote mark 1)" if row.by_protocol.endswith("1)") else ""
+            item.notes.append(f"initial: the page prints '{row.by_protocol}', one value per protocol (DYNAMIXEL "
+                              f"Protocol 2.0, then Modbus{mark}); the Protocol 2.0 value is used: dxlemu "
+                              f"speaks DYNAMIXEL Protocol 2.0 only")
         if row.access == "R/RW":
             item.notes.append("access: the page prints 'R/RW' (read-only or writable depending on "
                               "External Port Mode); RW is used and the mode check is left to the emulator")
@@ -95,7 +101,7 @@ def signedness(d: Draft):
                 item.min = 0
                 why = (f"range: {printed} is printed for the active values; 0 (deactivate, clear the "
                        f"watchdog error) is accepted too, per the Bus Watchdog include's Values table; ")
-            item.notes.append(f"{why}signed: the device itself sets -1 (0xFF) on a watchdog timeout (Bus "
+            item.notes.append(f"{why}signed: the device itself sets -1 (0x{'FF' * item.row.size}) on a watchdog timeout (Bus "
                               f"Watchdog include), so the item is signed; writes accept {item.min} ~ {item.max}")
     d.notes += [note for families, note in SIGNED_MODEL_NOTES if d.is_in(families)]
 
@@ -106,6 +112,11 @@ def operating_modes(d: Draft):
     if item is None:
         return
     if item.values is not None and item.range_from != "donor":   # P / PRO print the list
+        return
+    if d.is_in(OPMODE_VALUES):
+        item.values, note = d.lookup(OPMODE_VALUES)
+        item.min = item.max = None
+        item.notes.append(note)
         return
     text = d.page.text
     for block in OPMODE_BLOCKS:
@@ -203,7 +214,15 @@ def supply_voltage(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
     low, high = d.by_key.get("min_voltage_limit"), d.by_key.get("max_voltage_limit")
     if not (low and high):
         return None
-    return (low.initial + high.initial) // 2, {"low": low.initial, "high": high.initial}
+    midpoint = (low.initial + high.initial) // 2
+    # The reading may count finer than the limits (DYNAMIXEL-Y: limits in 0.1 V, Present Input
+    # Voltage in 0.01 V): the midpoint is given in the reading's unit.
+    limit_unit, reading_unit = unit_number(low.unit), unit_number(item.unit)
+    if limit_unit and reading_unit and limit_unit != reading_unit:
+        midpoint = round(midpoint * limit_unit / reading_unit)
+        item.notes.append(f"unit: the Voltage Limits count {low.unit}, this reading {item.unit}; the "
+                          f"midpoint is written in the reading's unit")
+    return midpoint, {"low": low.initial, "high": high.initial}
 
 
 def twin_page(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
@@ -217,6 +236,19 @@ def twin_page(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
     return parse_int(rows[0].initial), {"twin": twin}
 
 
+# Families whose Moving Status has a Position In Range bit (DYNAMIXEL-Y: bit 6), set at rest.
+POSITION_IN_RANGE_BIT = {"y": 0x40}
+
+
+def moving_status_at_rest(d: Draft, item: Item, fw: int) -> tuple[int, dict] | None:
+    """Moving Status at power-on where it reports Position In Range; None (0, not moving) elsewhere."""
+    bit = d.lookup(POSITION_IN_RANGE_BIT, None)
+    low, high = d.by_key.get("min_position_limit"), d.by_key.get("max_position_limit")
+    if bit is None or not (low and high) or not low.initial <= d.lookup(MID_POSITION) <= high.initial:
+        return None
+    return bit, {}
+
+
 # The values InitialRule.computed names: (draft, item, firmware version) -> (value, further note
 # fields) or None when the model lacks what the value is computed from.
 INITIAL_COMPUTATIONS = {
@@ -225,6 +257,7 @@ INITIAL_COMPUTATIONS = {
     "supply_voltage": supply_voltage,
     "range_top": lambda d, item, fw: (item.static_range()[1], {}),
     "twin_page": twin_page,
+    "moving_status_at_rest": moving_status_at_rest,
 }
 
 

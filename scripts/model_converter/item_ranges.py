@@ -7,12 +7,13 @@ value is accepted. Every choice leaves a "range: ..." note on the item.
 
 from __future__ import annotations
 
-from .decisions.item_rules import LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY
+from .decisions.item_rules import (LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY,
+                                   WIDEN_TO_FACTORY_BY_FAMILY)
 from .decisions.range_choices import RANGE_CHOICES
 from .items import Draft, Item
 from .markdown import clean_cell, norm_space, parse_int, snake_key, tables_in
 from .page import Row
-from .ranges import RangeChoice, RangeSpec, evidence_found, find_choice, parse_range
+from .ranges import RangeChoice, RangeSpec, bound_keys, evidence_found, find_choice, parse_range
 
 
 def section_ranges(d: Draft, item: Item) -> list[RangeSpec]:
@@ -66,7 +67,7 @@ def ref_key(d: Draft, ref: tuple, item: Item) -> tuple[str, Item]:
     """The key (with "-" when negated) of the item a Range cell names as a bound."""
     negated, name, addr = ref
     target = d.by_addr.get(addr)
-    if target is None or snake_key(target.row.name) != snake_key(name):
+    if target is None or snake_key(target.row.name) not in bound_keys(name):
         raise ValueError(f"{d.name}.{item.key}: range names {name}({addr}), which is not an item")
     return ("-" if negated else "") + target.key, target
 
@@ -202,7 +203,7 @@ def resolve_limits(d: Draft):
 
 def widen_to_factory(d: Draft):
     """Items printed with a range that excludes their factory value (WIDEN_TO_FACTORY)."""
-    for key, (widest, note) in WIDEN_TO_FACTORY.items():
+    for key, (widest, note) in (WIDEN_TO_FACTORY | d.lookup(WIDEN_TO_FACTORY_BY_FAMILY, {})).items():
         item = d.by_key.get(key)
         if item is None or item.max is None or item.initial <= item.max:
             continue

@@ -56,6 +56,10 @@ def current_unit(d: Draft) -> float | None:
             u = unit_number(item.unit)
             d.notes.append(f"motion.current_unit_ma: {u} (Unit column of {item.row.name}: '{item.unit}')")
             return u
+        if item and item.unit and re.fullmatch(r"[\d.]+\s*\[A\]", item.unit):
+            u = round(unit_number(item.unit) * 1000, 6)
+            d.notes.append(f"motion.current_unit_ma: {u:g} (Unit column of {item.row.name}: '{item.unit}')")
+            return u
     text = d.page.text
     for pat, what in ((r"\|\s*(?i:about)\s+([\d.]+)\s*\[?mA\]?", "the Current Limit description table"),
                       (r"I = \( ([\d.]+)mA \)", "the Current(68) description 'I = ( 4.5mA ) * (CURRENT - 2048)'"),

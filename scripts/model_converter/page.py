@@ -1,6 +1,6 @@
-"""One control-table page of the reference, parsed: the EEPROM and RAM tables as rows (elided
-'…' series expanded), and the 'Control Table Description' sections with the addresses their
-headings name.
+"""One control-table page of the reference, parsed: the EEPROM and RAM tables (or the one
+combined table of the DYNAMIXEL-Y pages, split by its Area column) as rows (elided '…' series
+expanded), and the 'Control Table Description' sections with the addresses their headings name.
 
 This is what the page prints, nothing decided: the builder turns it into a model.
 """
@@ -8,7 +8,7 @@ This is what the page prints, nothing decided: the builder turns it into a model
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from .markdown import Table, camel_to_include, clean_cell, parse_int, tables_in
 from .reference import TAG_ALIASES, Reference
@@ -28,6 +28,7 @@ class Row:
     area: str
     expanded: bool = False
     borrowed: str = ""        # the page the row was taken from, when this page's revision lacks it
+    by_protocol: str = ""     # the Initial cell as printed, where it gives one value per protocol
 
 
 @dataclass
@@ -49,6 +50,7 @@ class Page:
     rows: list[Row]
     sections: list[Section]
     columns: set
+    modbus_only: list[str] = field(default_factory=list)   # rows of the Modbus map alone, dropped
 
     @property
     def text(self) -> str:
@@ -80,7 +82,7 @@ COLUMN_PATTERNS = [
     ("address", r"^address$"), ("size", r"^size"), ("name", r"^data name$"),
     ("description", r"^description$"), ("access", r"^access$"), ("initial", r"^(initial|default value)"),
     ("range", r"^range$"), ("unit", r"^unit$"), ("min", r"^min$"), ("max", r"^max$"),
-    ("modbus", r"modbus"),
+    ("modbus", r"modbus"), ("area", r"^area$"),
 ]
 
 
@@ -99,16 +101,44 @@ def map_columns(header: list[str]) -> dict[str, int]:
 
 
 def control_tables(lines: list[str]) -> list[tuple[str, Table]]:
-    """The EEPROM and RAM tables: first table after a 'Control Table of ... Area' heading."""
+    """The EEPROM and RAM tables: first table after a 'Control Table of ... Area' heading. A page
+    with one combined table (DYNAMIXEL-Y: 'Control Table Configuration', an Area column naming
+    EEPROM, RAM or Hybrid per row) gives it once, with the area "" (read from the column)."""
     found = []
     for i, line in enumerate(lines):
         m = re.match(r"#+\s.*Control Table of (EEPROM|RAM) Area", line)
-        if m:
+        combined = re.match(r"#+\s.*Control Table Configuration", line)
+        if m or combined:
             tabs = tables_in(lines, i + 1, min(len(lines), i + 400))
             if not tabs:
                 raise ValueError(f"no table after {line!r}")
-            found.append((m.group(1), tabs[0]))
+            if combined and "area" not in map_columns(tabs[0].header):
+                raise ValueError(f"the table after {line!r} has no Area column")
+            found.append((m.group(1) if m else "", tabs[0]))
     return found
+
+
+# The Area column's values, as the model format writes them.
+AREAS = {"eeprom": "EEPROM", "ram": "RAM", "hybrid": "Hybrid"}
+
+
+def protocol2_line(initial_raw: str, range_raw: str) -> tuple[str, str] | None:
+    """(initial, range) of a cell pair that prints one line per protocol (DYNAMIXEL-Y: Initial
+    '4,040<br />4,041<sup>1)</sup>', Range '4,040 (Dynamixel Protocol 2.0)<br />4,041 (Modbus)'):
+    the initial of the Protocol 2.0 line, and the range as the list of every line's value (the
+    item accepts them all); None where the cells are not split by protocol."""
+    inits = re.split(r"<br\s*/?>", initial_raw)
+    ranges = [clean_cell(r) for r in re.split(r"<br\s*/?>", range_raw)]
+    if len(inits) < 2 or len(inits) != len(ranges):
+        return None
+    line = next((k for k, r in enumerate(ranges) if re.search(r"protocol 2\.0", r, re.I)), None)
+    if line is None:
+        return None
+    values = [parse_int(re.sub(r"\s*\(.*\)\s*$", "", r)) for r in ranges]
+    if None in values:
+        raise ValueError(f"per-protocol range not understood: {range_raw!r}")
+    initial = clean_cell(re.sub(r"<sup>.*?</sup>", "", inits[line]))    # the footnote mark is no digit
+    return initial, ", ".join(str(v) for v in values)
 
 
 def read_rows(area: str, table: Table) -> list[dict]:
@@ -124,9 +154,19 @@ def read_rows(area: str, table: Table) -> list[dict]:
                 return ""
             return cells[cols[key]] if raw_cell else clean_cell(cells[cols[key]])
 
+        row_area = area or AREAS.get(cell("area").lower(), cell("area"))
+        if row_area not in AREAS.values() and parse_int(cell("address")) is not None:
+            raise ValueError(f"unknown area {row_area!r}: {raw}")
+        initial, rng = cell("initial"), cell("range")
+        by_protocol = protocol2_line(cell("initial", raw_cell=True), cell("range", raw_cell=True))
+        if by_protocol is not None:
+            initial, rng = by_protocol
+            if cell("access") == "R":
+                rng = "-"        # a read-only item has no accepted values; its width applies
         out.append({
-            "area": area, "address": cell("address"), "size": cell("size"), "name": cell("name"),
-            "access": cell("access"), "initial": cell("initial"), "range": cell("range"),
+            "area": row_area, "address": cell("address"), "size": cell("size"), "name": cell("name"),
+            "access": cell("access"), "initial": initial, "range": rng,
+            "by_protocol": clean_cell(cells[cols["initial"]]) if by_protocol else "",
             "unit": clean_cell(re.sub(r"<br\s*/?>", " / ", cell("unit", raw_cell=True))) if "unit" in cols else "",
             "min": cell("min"), "max": cell("max"),
             "has_minmax": "min" in cols, "raw": raw,
@@ -158,7 +198,7 @@ def expand_ellipses(raw: list[dict]) -> list[Row]:
         if r["has_minmax"]:
             mm = (r["min"], r["max"])
         return Row(parse_int(r["address"]), parse_int(r["size"]), r["name"], r["access"], r["initial"],
-                   r["range"], r["unit"], mm, r["area"], expanded)
+                   r["range"], r["unit"], mm, r["area"], expanded, by_protocol=r.get("by_protocol", ""))
 
     i = 0
     while i < len(raw):
@@ -234,10 +274,15 @@ def read_page(ref: Reference, name: str, family: str, group: str) -> Page:
     lines = ref.text(f"control-tables/{name}.md").splitlines()
     raw, columns = [], set()
     tabs = control_tables(lines)
-    if [a for a, _ in tabs] != ["EEPROM", "RAM"]:
-        raise ValueError(f"{name}: expected an EEPROM and a RAM table, found {[a for a, _ in tabs]}")
+    if [a for a, _ in tabs] not in (["EEPROM", "RAM"], [""]):
+        raise ValueError(f"{name}: expected an EEPROM and a RAM table or one combined table, "
+                         f"found {[a or 'combined' for a, _ in tabs]}")
     for area, table in tabs:
         columns |= set(map_columns(table.header))
         raw += read_rows(area, table)
+    # Rows with no DYNAMIXEL address (Address 'N/A') exist only in the Modbus map: dxlemu speaks
+    # DYNAMIXEL Protocol 2.0 only, so they are no items (the builder notes them).
+    modbus_only = [r["name"] for r in raw if r["address"].upper() == "N/A"]
+    raw = [r for r in raw if r["address"].upper() != "N/A"]
     rows = expand_ellipses(raw)
-    return Page(name, family, group, lines, rows, description_sections(lines), columns)
+    return Page(name, family, group, lines, rows, description_sections(lines), columns, modbus_only)

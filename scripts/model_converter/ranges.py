@@ -12,10 +12,11 @@ import operator
 import re
 from dataclasses import dataclass, field
 
-from .markdown import ELLIPSES, clean_cell, norm_space, parse_int
+from .markdown import ELLIPSES, clean_cell, norm_space, parse_int, snake_key
 
 RANGE_RE = re.compile(r"(-?[\d,]+)\s*~\s*(-?[\d,]+)")
-LIMIT_RE = re.compile(r"^(-?)\s*([A-Za-z][A-Za-z ]*?)\s*\((\d+)\)$")
+# "- Current Limit(66)"; also "Voltage(PWM) Limit(64)", a name with its other name in brackets
+LIMIT_RE = re.compile(r"^(-?)\s*([A-Za-z][A-Za-z ]*?(?:\([A-Za-z]+\)\s*[A-Za-z ]*?)?)\s*\((\d+)\)$")
 
 
 @dataclass
@@ -72,6 +73,12 @@ def parse_range(cell: str) -> RangeSpec | None:
         spec.min, spec.max = 0, functools.reduce(operator.or_, (int(b, 16) for b in bits))
         return spec
     raise ValueError(f"range cell not understood: {t!r}")
+
+
+def bound_keys(name: str) -> set[str]:
+    """The keys a bound's name in a Range cell may stand for: its snake key, and for a name with
+    its other name in brackets ('Voltage(PWM) Limit', DYNAMIXEL-Y for PWM Limit(64)) that one's."""
+    return {snake_key(name), snake_key(re.sub(r"^\w+\s*\((\w+)\)\s*", r"\1 ", name))}
 
 
 def full_width(size: int, signed: bool) -> tuple[int, int]:

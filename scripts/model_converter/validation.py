@@ -9,7 +9,7 @@ from pathlib import Path
 from .decisions.catalogue import PAGE_RULES
 from .markdown import parse_int, snake_key
 from .page import Page
-from .ranges import RangeSpec, full_width, parse_range
+from .ranges import RangeSpec, bound_keys, full_width, parse_range
 
 FAMILIES = {family for _, family, _ in PAGE_RULES}
 TOP_REQUIRED = {"name": str, "title": str, "model_number": int, "firmware_version": int, "family": str,
@@ -66,7 +66,7 @@ def validate(model: dict) -> None:
         keys.add(k)
         addrs.add(it["address"])
         need(it["size"] in (1, 2, 4), f"{k}: size {it['size']}")
-        need(it["access"] in ("R", "RW") and it["area"] in ("EEPROM", "RAM"), f"{k}: access/area")
+        need(it["access"] in ("R", "RW") and it["area"] in ("EEPROM", "RAM", "Hybrid"), f"{k}: access/area")
         for a in range(it["address"], it["address"] + it["size"]):
             need(a not in occupied, f"{k} overlaps {occupied.get(a)}")
             occupied[a] = k
@@ -156,7 +156,7 @@ def cross_check(page: Page, model: dict) -> list[str]:
             else:
                 problems.append(f"{row.name}: max {it.get('max')} != printed {spec.max}")
         for side, ref in (("limit_min", spec.lo_ref), ("limit_max", spec.hi_ref)):
-            if ref and it.get(side, "").lstrip("-") != snake_key(ref[1]):
+            if ref and it.get(side, "").lstrip("-") not in bound_keys(ref[1]):
                 problems.append(f"{row.name}: {side} {it.get(side)} != printed {ref}")
     if problems:
         raise AssertionError(f"{page.name}: cross-check failed:\n  " + "\n  ".join(problems))

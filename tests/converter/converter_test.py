@@ -20,7 +20,7 @@ from model_converter.markdown import (camel_to_include, clean_cell, clean_unit, 
                                       select_liquid_branch, snake_key, tables_in, unit_number)
 from model_converter.page import description_sections, expand_ellipses, map_columns, read_page  # noqa: E402
 from model_converter.decisions.catalogue import CONVERTED_PAGES, classify, lineage  # noqa: E402
-from model_converter.ranges import evidence_found, find_choice, full_width, parse_range, rc  # noqa: E402
+from model_converter.ranges import bound_keys, evidence_found, find_choice, full_width, parse_range, rc  # noqa: E402
 from model_converter.reference import Reference  # noqa: E402
 from model_converter.spec_table import parse_spec_table  # noqa: E402
 
@@ -170,6 +170,35 @@ class PageTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "expected an EEPROM and a RAM table"):
             read_page(tmp.ref, "test-1", "x", "dxl_x430")
 
+    def test_a_combined_table_is_split_by_its_area_column_and_reads_the_protocol_2_values(self):
+        combined = ("## Control Table Configuration\n\n"
+                    "| Address | Size(Byte) | _Modbus_<br>Address | Area | Data Name | Access | Initial<br>Value | "
+                    "Range | Unit |\n|---|---|---|---|---|---|---|---|---|\n"
+                    "| 0 | 2 | 40001 | EEPROM | [Model Number](#m) | R | 4,040<br />4,041<sup>1)</sup> | "
+                    "4,040 **(Dynamixel Protocol 2.0)**<br />4,041 **(Modbus)** | - |\n"
+                    "| 11 | 1 | 40006 (Hi byte) | EEPROM | Protocol Type | RW | 2<br />10 | "
+                    "2 **(Dynamixel Protocol 2.0)**<br />10 **(Modbus)** | - |\n"
+                    "| 212 | 4 | 40107 | Hybrid | Velocity I Gain | RW | 100 | 0 ~ 2,147,483,647 | - |\n"
+                    "| 512 | 1 | 40257 (Lo byte) | RAM | Torque Enable | RW | 0 | 0 ~ 1 | - |\n"
+                    "| N/A | 2 | 41002 | RAM | Reboot Instruction | W | - | - | - |\n")
+        tmp = TempReference({"test-1": combined})
+        self.addCleanup(tmp.close)
+        page = read_page(tmp.ref, "test-1", "y", "dxl_y_m")
+        self.assertEqual([(r.address, r.name, r.initial, r.range, r.area) for r in page.rows],
+                         [(0, "Model Number", "4,040", "-", "EEPROM"), (11, "Protocol Type", "2", "2, 10", "EEPROM"),
+                          (212, "Velocity I Gain", "100", "0 ~ 2,147,483,647", "Hybrid"),
+                          (512, "Torque Enable", "0", "0 ~ 1", "RAM")])
+        self.assertEqual(page.rows[0].by_protocol, "4,040 4,0411)")
+        self.assertEqual(page.modbus_only, ["Reboot Instruction"])
+
+    def test_a_combined_table_with_an_unknown_area_is_refused(self):
+        combined = ("## Control Table Configuration\n\n| Address | Size(Byte) | Area | Data Name | Access | "
+                    "Initial Value |\n|---|---|---|---|---|---|\n| 0 | 2 | Flash | Model Number | R | 1 |\n")
+        tmp = TempReference({"test-1": combined})
+        self.addCleanup(tmp.close)
+        with self.assertRaisesRegex(ValueError, "unknown area 'Flash'"):
+            read_page(tmp.ref, "test-1", "y", "dxl_y_m")
+
     def test_the_specifications_table_gives_the_figures_at_the_recommended_voltage(self):
         lines = ["| Item | Specifications |", "|---|---|",
                  "| Input Voltage | 10.0 ~ 14.8 [V] (**Recommended : 12.0 [V]**) |",
@@ -189,6 +218,13 @@ class RangeCellTest(unittest.TestCase):
     def test_no_range(self):
         for cell in ("", "-", "…", " ... "):
             self.assertIsNone(parse_range(cell))
+
+    def test_a_bound_may_carry_its_other_name_in_brackets(self):
+        spec = parse_range("- Voltage(PWM)Limit(64) ~ <br />Voltage(PWM) Limit(64)")
+        self.assertEqual((spec.lo_ref, spec.hi_ref), ((True, "Voltage(PWM)Limit", 64), (False, "Voltage(PWM) Limit", 64)))
+        self.assertIn("pwm_limit", bound_keys(spec.lo_ref[1]))
+        self.assertIn("pwm_limit", bound_keys(spec.hi_ref[1]))
+        self.assertNotIn("current_limit", bound_keys("Voltage(PWM) Limit"))
 
     def test_bounds_named_by_other_items(self):
         spec = parse_range("[Min Position Limit(52)](#x) ~ Max Position Limit(48)")
@@ -367,7 +403,9 @@ class DecisionTablesTest(unittest.TestCase):
                  "xm335-t323": ("x", "xm335", "x330"), "xw430-t200": ("x", "dxl_xw430", "x"),
                  "mx-28-2": ("mx2", "dxl_mx2", "mx2"), "mx-28": ("mx1", "dxl_mx", "mx1"),
                  "ex-106+": ("ex", "dxl_ex", "ex"), "ph54-200-s500-r": ("p", "dxl_p", "p"),
-                 "h54-200-s500-r": ("pro", "dxl_pro", "pro")}
+                 "h54-200-s500-r": ("pro", "dxl_pro", "pro"), "ym070-210-m001-rh": ("y", "dxl_y_m", "y"),
+                 "ym080-230-b001-rh": ("y", "dxl_y_b", "y"), "ym070-210-r051-rh": ("y", "dxl_y_r", "y"),
+                 "ym080-230-a099-rh": ("y", "dxl_y_a", "y")}
         for name, (family, group, variant) in cases.items():
             self.assertEqual(catalogue.classify(name), (family, group), name)
             self.assertEqual(catalogue.variant_of(family, group), variant, name)

@@ -112,10 +112,10 @@ ReferencePage parse_reference_page(const std::filesystem::path& page) {
     row.size = static_cast<unsigned>(*size);
     row.name = cells.at(column(header, "Data Name"));
     row.access = cells.at(column(header, "Access"));
-    // One combined table (DYNAMIXEL-Y) says the area of each row; "Hybrid" is neither.
+    // One combined table (DYNAMIXEL-Y) says the area of each row: EEPROM, RAM or Hybrid.
     if (const int a = column(header, "Area"); a >= 0) {
       const std::string& cell = cells.at(a);
-      row.area = cell == "EEPROM" || cell == "RAM" ? cell : "";
+      row.area = cell == "EEPROM" || cell == "RAM" || cell == "Hybrid" ? cell : "";
     } else {
       row.area = area;
     }

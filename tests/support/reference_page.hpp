@@ -14,7 +14,7 @@ struct ReferenceRow {
   unsigned size = 0;
   std::string name;
   std::string access;   ///< "R" or "RW"
-  std::string area;     ///< "EEPROM" or "RAM" (from the section heading), "" if unknown
+  std::string area;     ///< "EEPROM", "RAM" (the section heading) or "Hybrid" (an Area column)
   std::string initial;  ///< e.g. "1020", "-", "Max Torque"
   std::string range;    ///< e.g. "0 ~ 252"; XL-320's Min/Max columns are joined the same way
 };

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 
 V1_FAMILIES = {"ax", "rx", "ex", "mx1"}           # Protocol 1.0 control tables
-P2_FAMILIES = {"x", "mx2", "p", "pro"}            # Protocol 2.0 tables with 4-byte items
+P2_FAMILIES = {"x", "mx2", "p", "pro", "y"}       # Protocol 2.0 tables with 4-byte items
 
 
 # The pages whose layouts this converter reads. The reference holds more (the rest of the ROBOTIS
@@ -95,6 +95,18 @@ CONVERTED_PAGES = (
     "xw540-h260",
     "xw540-t140",
     "xw540-t260",
+    "ym070-210-a051-rh",
+    "ym070-210-a099-rh",
+    "ym070-210-b001-rh",
+    "ym070-210-m001-rh",
+    "ym070-210-r051-rh",
+    "ym070-210-r099-rh",
+    "ym080-230-a051-rh",
+    "ym080-230-a099-rh",
+    "ym080-230-b001-rh",
+    "ym080-230-m001-rh",
+    "ym080-230-r051-rh",
+    "ym080-230-r099-rh",
 )
 
 # Page name (fullmatch) -> behaviour family (docs/model-format.md `family`) and the e-Manual's
@@ -121,7 +133,12 @@ PAGE_RULES = (
     (r"rh-p12-rna", "p", "rh_p12_rna"),
     (r"rh-p12-rn", "pro", "rh_p12_rn"),
     (r"dx-.*", "dx", "dxl_dx"),
-    (r"ym.*", "y", "dxl_y"),
+    # DYNAMIXEL-Y: each page's front matter names its product group (dxl_y_m, dxl_y_b, dxl_y_r,
+    # dxl_y_a), on which the Y includes branch (Bus Watchdog, Torque Enable: 'dxl_y_m').
+    (r"ym\d+-\d+-m.*", "y", "dxl_y_m"),
+    (r"ym\d+-\d+-b.*", "y", "dxl_y_b"),
+    (r"ym\d+-\d+-r.*", "y", "dxl_y_r"),
+    (r"ym\d+-\d+-a.*", "y", "dxl_y_a"),
 )
 
 # Product groups whose decisions differ from the rest of their family (firmware version,

@@ -62,6 +62,18 @@ INITIAL_RULES = {
     "present_voltage": _SUPPLY_VOLTAGE,
     "present_temperature": InitialRule("initial: the page shows '-'; 25 (room temperature, deg C) chosen",
                                        value=25),
+    "present_inverter_temperature": InitialRule("initial: the page shows '-'; 25 (room temperature, deg C) chosen",
+                                                value=25),
+    "present_motor_temperature": InitialRule("initial: the page shows '-'; 25 (room temperature, deg C) chosen",
+                                             value=25),
+    "moving_status": InitialRule(
+        "initial: the page shows '-'; {value} (Position In Range, bit 6: Present Position at power-on lies within "
+        "Min/Max Position Limit; not moving, no profile) chosen "
+        f"({EMANUAL_INCLUDES}y/control_table_541_moving_status.md)", computed="moving_status_at_rest"),
+    "controller_state": InitialRule(
+        "initial: the page shows '-'; 2 (Inverter OFF, 'Torque OFF state. The inverter is turned OFF.') chosen: the "
+        "servo powers on with Torque Enable 0 and passes Start (0) and Init System (1) before it answers "
+        f"({EMANUAL_INCLUDES}y/control_table_152_controller_state.md)", value=2),
     "acceleration_limit": InitialRule("initial: the page shows '-'; {value:,} (the top of the range, so the "
                                       "factory setting refuses no Goal Acceleration) chosen", computed="range_top"),
     "velocity_limit": InitialRule("initial: the page shows '-'; 1,023 chosen, the top of the Goal Velocity range its "
@@ -99,7 +111,9 @@ for _key in ("velocity_i_gain", "velocity_p_gain", "position_d_gain", "position_
 
 # The centre of travel per family, the power-on value of the position items.
 MID_POSITION = {"x": 2048, "mx2": 2048, "mx1": 2048, "ex": 2048, "ax": 512, "rx": 512, "xl320": 512,
-                "p": 0, "pro": 0}
+                "p": 0, "pro": 0,
+                # DYNAMIXEL-Y: factory Min/Max Position Limit -262,144 ~ 262,144 around 0
+                "y": 0}
 
 # Why 0 is the power-on value of the other items the pages print as "-" (key pattern, reason).
 ZERO_REASONS = [
@@ -109,6 +123,8 @@ ZERO_REASONS = [
     (r"moving|moving_status", "not moving at power-on"),
     (r"present_(pwm|current|velocity|load|speed)|velocity_trajectory", "motor at rest at power-on"),
     (r"backup_ready", "no Control Table Backup exists in the factory state"),
+    (r"error_code", f"0 is 'No Error' ({EMANUAL_INCLUDES}y/control_table_153_error_code.md)"),
+    (r"error_code_history_\d+", "no error has occurred in the factory state"),
     (r"external_port_data_\d+", "nothing connected / outputs low at power-on"),
     (r"profile_(acceleration|velocity)", "no profile, as on the X pages, whose initial value is 0"),
     (r"bus_watchdog", "0 deactivates the Bus Watchdog (control_table_buswatchdog.md: '0 | Deactivate Bus Watchdog "
@@ -149,7 +165,7 @@ SIGNED_READBACK = {"present_pwm", "present_current", "present_velocity", "presen
                    "present_load", "velocity_trajectory", "position_trajectory"}
 
 # Families whose device writes -1 into Bus Watchdog on a timeout (Bus Watchdog include).
-BUS_WATCHDOG_FAMILIES = {"x", "mx2", "p"}
+BUS_WATCHDOG_FAMILIES = {"x", "mx2", "p", "y"}
 
 # Model notes on signedness: (families, note).
 SIGNED_MODEL_NOTES = [
@@ -184,6 +200,15 @@ OPMODE_BLOCKS = [
                      "control_table_mx_opmode_2.md are used: 1, 3, 4, 16",
                 without_item="goal_current"),
 ]
+
+# Operating Mode values per family whose Operating Mode block is not in the reference: the modes
+# that block lists, and the note.
+OPMODE_VALUES = {
+    "y": ([0, 1, 3], "range: the table prints 0 ~ 3; values: the DYNAMIXEL-Y Operating Mode block "
+                     f"({EMANUAL_INCLUDES}y/control_table_33_operating_mode.md, not in the reference) lists three "
+                     "modes: 0 Current Control Mode, 1 Velocity Control Mode, 3 (Default) Position Control Mode; "
+                     "2 selects none and is refused"),
+}
 
 # Protocol Type values per variant: the include whose Value table lists them, the note ({values}
 # is the list), and the product group whose Liquid branch is read ("" for the page's own).
@@ -228,6 +253,15 @@ WIDEN_TO_FACTORY = {
                           "ID include says '0 ~ 252 Activate Secondary ID function, 253 ~ 255 Deactivate "
                           f"Secondary ID function, Default value 255' ({EMANUAL_INCLUDES}control_table_shadowid.md, "
                           "not in the reference), so 0 ~ 255 is accepted"),
+}
+
+# The same widening where a family's own block says it: key -> (max, note) by family.
+WIDEN_TO_FACTORY_BY_FAMILY = {
+    "y": {"secondary_id": (255, "range: {min} ~ {max} is printed but the factory value is {initial}; the DYNAMIXEL-Y "
+                                "Secondary ID block's Value table says '0 ~ 252 Enable Secondary ID function', "
+                                "'253 ~ 255 Disable Secondary ID function, Default value : 255' "
+                                f"({EMANUAL_INCLUDES}y/control_table_10_secondary_id.md, not in the reference), so "
+                                "0 ~ 255 is accepted")},
 }
 
 # ---------------------------------------------------------------------------------------------

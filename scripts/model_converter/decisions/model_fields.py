@@ -72,6 +72,11 @@ FIRMWARE = {
     "pro_a": (1, "firmware_version: the page shows '-'; no instruction or item of the PRO(A) table depends on a "
                  "firmware version in the reference (protocol2.md lists no PRO(A) among the Fast Sync/Bulk Read "
                  "servos), so 1 is an arbitrary placeholder"),
+    "y": (1, "firmware_version: the page shows '-' (its Firmware Version block says only 'The firmware version "
+             f"installed on your DYNAMIXEL', {EMANUAL_INCLUDES}y/control_table_6_firmware_version.md); no "
+             "instruction or item of the DYNAMIXEL-Y table depends on a firmware version in the reference "
+             "(protocol2.md lists no Y servo among the Fast Sync/Bulk Read or Control Table Backup servos), so 1 is "
+             "an arbitrary placeholder"),
 }
 
 # The firmware that stands for "Firmware versions prior to VNN" (firmware.py's older_indirect): the
@@ -90,7 +95,9 @@ _TIMING_OTHER = ({"ping_us": 50, "read_us": 50, "write_us": 50, "write_per_byte_
                  "timing: 50 us for ping, read and write, none per byte ('MX about 50 us'); the same figure "
                  "is used for X, XL-320, P and PRO, for which nothing is measured")
 TIMING = {"ax": _TIMING_AX, "rx": _TIMING_AX, "ex": _TIMING_AX, "mx1": _TIMING_OTHER, "mx2": _TIMING_OTHER,
-          "x": _TIMING_OTHER, "xl320": _TIMING_OTHER, "p": _TIMING_OTHER, "pro": _TIMING_OTHER}
+          "x": _TIMING_OTHER, "xl320": _TIMING_OTHER, "p": _TIMING_OTHER, "pro": _TIMING_OTHER,
+          "y": (_TIMING_OTHER[0], "timing: 50 us for ping, read and write, none per byte, the figure used for the other "
+                                  "Protocol 2.0 families ('MX about 50 us'); nothing is measured for DYNAMIXEL-Y")}
 
 BOOT_MS = 400
 BOOT_URL = "https://github.com/ROBOTIS-GIT/emanual/issues/1698"
@@ -135,6 +142,10 @@ PROTOCOLS = {
                "DYNAMIXEL protocol and is not listed"),
     "pro": ([2], None),
     "xl320": ([2], None),
+    "y": ([2], "protocols: 2.0 only; the page's Protocol Type(11) row prints '2 (Dynamixel Protocol 2.0)' and "
+               "'10 (Modbus)': the item accepts both, but Modbus-RTU is not a DYNAMIXEL protocol, dxlemu does not "
+               "speak it, and it is not listed; the table's Modbus Address column and its Modbus-only rows "
+               "are not read"),
 }
 
 # Baud tables that are not in the offline reference (P and PRO includes were not copied).
@@ -145,6 +156,11 @@ EXTERNAL_BAUD = {
     "pro": ([(0, 9600), (1, 57600), (2, 115200), (3, 1000000), (4, 2000000), (5, 3000000),
              (6, 4000000), (7, 4500000), (8, 10500000)],
             EMANUAL_INCLUDES + "control_table_8_baudrate_pro.md"),
+    # Its Value table: 0 9,600 / 1 57,600 (Default) / 2 115,200 / 3 1M / 4 2M / 5 3M / 6 4M / 7 4.5M /
+    # 8 6M / 9 10.5M (nominal rates).
+    "y": ([(0, 9600), (1, 57600), (2, 115200), (3, 1000000), (4, 2000000), (5, 3000000),
+           (6, 4000000), (7, 4500000), (8, 6000000), (9, 10500000)],
+          EMANUAL_INCLUDES + "y/control_table_12_baud_rate.md"),
 }
 
 # Families whose Baud Rate value n means 2,000,000/(n+1) bps, beyond the values their table lists.
@@ -174,6 +190,11 @@ DEGREES_PER_PULSE = {
                        "0.29 deg (inherited from RX pages, see README inconsistencies)"),
     "p": (float(Fraction(180, 501923)), "motion.degrees_per_pulse: 180/501,923 (Goal Position description: "
                                         "-180 ~ 180 deg = -501,923 ~ 501,923)"),
+    "y": (360 / 524288, "motion.degrees_per_pulse: 360/524,288 (the Electronic Gear Ratio block: 'DYNAMIXEL-Y "
+                        f"Resolution: 524,288 [pulse/rev]', {EMANUAL_INCLUDES}y/control_table_96_electronic_gear_ratio_"
+                        "numerator.md; the factory Max/Min Position Limit +-262,144 are then +-180 deg). The Goal "
+                        "Position block's '1[pulse] (Approx. 0.006866 deg)' is ten times 360/524,288 and agrees with "
+                        "no resolution the pages state; the stated resolution is used"),
     "pro": (float(Fraction(180, 250961)), "motion.degrees_per_pulse: 180/250,961, derived from the default "
                                           "position limits +-250,961 taken as +-180 deg (models.tsv: 'derived "
                                           "from defaults, not stated')"),
@@ -194,6 +215,7 @@ INDIRECT_BLOCKS = {
     "mx2": [(1, 28, 168, 224), (29, 56, 578, 634)],
     "p": [(1, 128, 168, 634)],                       # PH54 page: 168 ~ 422, data 634 ~ 761
     "pro": [(1, 256, 49, 634)],                      # H54 page: 49 ~ 559, data 634 ~ 889
+    "y": [(1, 128, 256, 634)],                       # YM pages: 256 ~ 510, data 634 ~ 761
 }
 
 

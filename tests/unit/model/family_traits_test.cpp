@@ -17,7 +17,7 @@ namespace {
 const std::vector<std::pair<Family, std::string>> kNames = {
     {Family::X, "x"},     {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},     {Family::Ax, "ax"},
     {Family::Rx, "rx"},   {Family::Ex, "ex"},   {Family::Xl320, "xl320"}, {Family::P, "p"},
-    {Family::Pro, "pro"}, {Family::Dx, "dx"},   {Family::ProA, "pro_a"}};
+    {Family::Pro, "pro"}, {Family::Dx, "dx"},   {Family::ProA, "pro_a"},  {Family::Y, "y"}};
 
 bool same_bits(const model::FaultBits& a, const model::FaultBits& b) {
   return a.input_voltage == b.input_voltage && a.overheating == b.overheating &&
@@ -34,7 +34,7 @@ TEST_CASE("Every family has one row, found by its name in model files", "[model]
     CHECK(model::family_name(family) == name);
     CHECK(model::family_from_name(name) == family);
   }
-  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, pro_a");
+  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, pro_a, y");
   CHECK_FALSE(model::family_from_name("pro+").has_value());
 }
 
@@ -62,7 +62,7 @@ TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down 
     CHECK_FALSE(traits_of(family).reboot);
   }
   for (const Family family :
-       {Family::X, Family::Mx2, Family::Xl320, Family::P, Family::Pro, Family::ProA}) {
+       {Family::X, Family::Mx2, Family::Xl320, Family::P, Family::Pro, Family::ProA, Family::Y}) {
     CHECK(traits_of(family).reboot);
   }
 }
@@ -106,6 +106,37 @@ TEST_CASE("The Operating Mode families hold at torque on and latch their errors"
   CHECK(model::fault_bit(Family::ProA, model::HardwareFault::HallSensor) == 0x02);
   CHECK(model::fault_bit(Family::Pro, model::HardwareFault::HallSensor) == 0x02);
   CHECK(model::fault_bit(Family::X, model::HardwareFault::HallSensor) == 0);
+}
+
+TEST_CASE(
+    "DYNAMIXEL-Y follows P where its pages are silent, with Error Code and Moving Status bits",
+    "[model][traits]") {
+  const model::FamilyTraits& t = traits_of(Family::Y);
+  CHECK(t.drive == model::DriveKind::OperatingMode);
+  CHECK(t.eeprom_locked_by_torque);  // "Setting the value to '1' ... prevents writing ... EEPROM"
+  CHECK(t.drive_mode_reverses);      // Drive Mode bit 0 Normal/Reverse Mode
+  CHECK(t.torque_on_goal == model::TorqueOnGoal::Holds);
+  // No Torque On by Goal Update bit (Drive Mode bit 3 "Unused"), no extended position mode, and a
+  // multi-turn position the servo keeps over power cycles.
+  CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::Never);
+  CHECK(t.extended_goals == model::ExtendedGoals::ItemRange);
+  CHECK_FALSE(t.one_turn_at_boot_and_torque_on);
+  CHECK(t.error_reaction == model::ErrorReaction::ErrorCode);
+  CHECK(t.error_codes.over_voltage == 1);
+  CHECK(t.error_codes.low_voltage == 2);
+  CHECK(t.error_codes.overheating == 4);
+  CHECK(t.error_codes.overload == 5);
+  CHECK(t.error_codes.encoder == 13);
+  CHECK(t.error_codes.hall_sensor == 14);
+  CHECK(t.error_codes.bus_watchdog == 18);
+  CHECK(same_bits(t.fault_bits, {}));  // no Shutdown / Hardware Error Status items
+  CHECK(t.moving_status_motion_and_range);
+  for (const auto& [family, name] : kNames) {
+    CAPTURE(name);
+    CHECK(traits_of(family).moving_status_motion_and_range == (family == Family::Y));
+    CHECK((traits_of(family).error_reaction == model::ErrorReaction::ErrorCode) ==
+          (family == Family::Y));
+  }
 }
 
 TEST_CASE(

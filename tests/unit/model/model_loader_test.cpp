@@ -139,7 +139,7 @@ TEST_CASE("The loader refuses a model without the items every servo needs", "[mo
 TEST_CASE("The loader refuses an unknown family", "[model][loader]") {
   CHECK(refusal([](json& j) { j["family"] = "pro+"; }) ==
         "/family: unknown family \"pro+\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, "
-        "pro_a)");
+        "pro_a, y)");
 }
 
 TEST_CASE("The loader refuses an unsupported item size", "[model][loader]") {
@@ -198,7 +198,7 @@ TEST_CASE("The loader refuses other malformed values", "[model][loader]") {
   CHECK(refusal([](json& j) { item(j, "id")["access"] = "W"; }) ==
         "/items/1/access: must be \"R\" or \"RW\", got \"W\"");
   CHECK(refusal([](json& j) { item(j, "id")["area"] = "ROM"; }) ==
-        "/items/1/area: must be \"EEPROM\" or \"RAM\", got \"ROM\"");
+        "/items/1/area: must be \"EEPROM\", \"RAM\" or \"Hybrid\", got \"ROM\"");
   CHECK(refusal([](json& j) { item(j, "id")["key"] = "Id"; }) ==
         "/items/1/key: must be snake_case (a-z, 0-9, _), got \"Id\"");
   CHECK(refusal([](json& j) {

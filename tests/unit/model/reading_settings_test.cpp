@@ -2,7 +2,7 @@
 // between (docs/motion.md "Settings the readings follow at once"): Present Position = direction ·
 // shaft + Homing Offset (Multi Turn Offset on MX 1.0), and Drive Mode's reverse bit flips the
 // Present values' signs. Over every model in models/ that has the items, so every family that
-// has them (X, MX(2.0), P and PRO(A): Homing Offset and Drive Mode; PRO: Homing Offset; MX 1.0:
+// has them (X, MX(2.0), P, PRO(A), Y: Homing Offset and Drive Mode; PRO: Homing Offset; MX 1.0:
 // Multi Turn Offset) is covered, and models added later too.
 #include <catch2/catch.hpp>
 
@@ -107,19 +107,18 @@ TEST_CASE("Present Position shows a new Homing Offset on the very next read, in 
     families.insert(std::string(model::family_name(spec->family)));
     Bench bench(spec);
     const std::int64_t before = bench.read("present_position");
-    // Offsets inside the item's printed range (the gripper's is 0 ~ 1,150).
-    const model::ItemSpec& item = *spec->find(offset);
-    std::int64_t last = 0;
-    for (const std::int64_t wanted : {1000, -300, 0, 777}) {
-      last = std::clamp(wanted, item.min, item.max);
-      REQUIRE(bench.write(offset, last) == 0);
-      CHECK(bench.read("present_position") == before + last);
+    // Offsets the item accepts (RH-P12-RN(A) takes 0 ~ 1,150 only).
+    const model::ItemSpec& item = bench.item(offset);
+    const auto accepted = [&](std::int64_t v) { return std::clamp(v, item.min, item.max); };
+    for (const std::int64_t homing : {1000, -300, 0, 777}) {
+      REQUIRE(bench.write(offset, accepted(homing)) == 0);
+      CHECK(bench.read("present_position") == before + accepted(homing));
     }
     // A tick later it is still so (the tick computes the same thing).
     bench.wait(3);
-    CHECK(bench.read("present_position") == before + last);
+    CHECK(bench.read("present_position") == before + accepted(777));
   }
-  CHECK(families == std::set<std::string>{"x", "mx2", "mx1", "p", "pro", "pro_a"});
+  CHECK(families == std::set<std::string>{"x", "mx2", "mx1", "p", "pro", "pro_a", "y"});
 }
 
 TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on the next read",
@@ -152,7 +151,7 @@ TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on th
     CHECK(bench.read("present_position") == std::llround(shaft + 500));
     CHECK(bench.read("present_velocity") == forward_velocity);
   }
-  CHECK(families == std::set<std::string>{"x", "mx2", "p", "pro_a"});
+  CHECK(families == std::set<std::string>{"x", "mx2", "p", "pro_a", "y"});
 }
 
 TEST_CASE("Homing Offset through Reg Write and Action shows at once too",

@@ -126,6 +126,20 @@ void ambient(const Reading& r) {
   CHECK(r.value == std::llround(kRoomC));
 }
 
+void motion_under_way(const Reading& r) {
+  // Nothing moves at rest. DYNAMIXEL-Y's Moving Status also says whether Present Position lies
+  // within Min/Max Position Limit (bit 6, Position In Range): at rest it does.
+  const bool range_bit =
+      r.servo.spec().traits().moving_status_motion_and_range && r.item.key == "moving_status";
+  CHECK(r.value == (range_bit ? 0x40 : 0));
+}
+
+void torque_off_without_error(const Reading& r) {
+  // DYNAMIXEL-Y Controller State: 2, Inverter OFF ("Torque OFF state"): Torque Enable is 0.
+  CHECK(r.servo.table().get("torque_enable") == 0);
+  CHECK(r.value == 2);
+}
+
 void milliseconds_since_power_on(const Reading& r) {
   const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(r.now.time_since_epoch());
   CHECK(r.value == ms.count() % kRealtimeTickWrap);
@@ -141,8 +155,9 @@ const std::vector<RestRule>& rest_rules() {
       {"the supply voltage", std::regex("present_(input_)?voltage"), supply},
       {"a temperature", std::regex("present_(\\w+_)?temperature"), ambient},
       {"the millisecond counter", std::regex("realtime_tick"), milliseconds_since_power_on},
-      {"motion under way", std::regex("moving|moving_status"), zero},
-      {"a hardware error", std::regex("hardware_error_status"), zero},
+      {"motion under way", std::regex("moving|moving_status"), motion_under_way},
+      {"a hardware error", std::regex("hardware_error_status|error_code(_history_\\d+)?"), zero},
+      {"the controller's state", std::regex("controller_state"), torque_off_without_error},
       {"a registered instruction", std::regex("registered(_instruction)?"), zero},
       {"a stored Control Table Backup", std::regex("backup_ready"), zero},
   };
@@ -188,6 +203,8 @@ TEST_CASE("Every live reading of every model reads at rest what a real servo rea
 TEST_CASE("A live item without a rest rule fails the audit", "[model][motion][rest]") {
   CHECK(rule_for("present_position") != nullptr);
   CHECK(rule_for("present_inverter_temperature") != nullptr);
+  CHECK(rule_for("error_code_history_16") != nullptr);
+  CHECK(rule_for("error_code_history") == nullptr);
   CHECK(rule_for("present_flux_capacitance") == nullptr);
 }
 

@@ -152,7 +152,10 @@ TEST_CASE("Every shipped model matches its reference page row by row", "[model][
         CHECK((item->access == model::Access::ReadOnly ? "R" : "RW") == row.access);
       }
       if (!row.area.empty()) {
-        CHECK((item->area == model::Area::Eeprom ? "EEPROM" : "RAM") == row.area);
+        const char* area = item->area == model::Area::Eeprom ? "EEPROM"
+                           : item->area == model::Area::Ram  ? "RAM"
+                                                             : "Hybrid";
+        CHECK(area == row.area);
       }
       const auto initial = test::reference_number(row.initial);
       if (initial && !documented(notes, item->key, "initial")) {
