@@ -13,6 +13,7 @@
 
 #include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "table_access.hpp"
 
 using namespace dxlemu;
 namespace fs = std::filesystem;
@@ -82,16 +83,7 @@ struct Bench {
       *error = r.error;
     }
     REQUIRE(r.params.size() == it.size);
-    std::uint64_t raw = 0;
-    for (std::size_t i = 0; i < it.size; ++i) {
-      raw |= std::uint64_t{r.params[i]} << (8 * i);
-    }
-    const int bits = 8 * it.size;
-    auto value = static_cast<std::int64_t>(raw);
-    if (it.is_signed && (raw >> (bits - 1)) != 0) {
-      value -= std::int64_t{1} << bits;
-    }
-    return value;
+    return test::from_le(r.params, it.is_signed);
   }
   void wait(int ms) {
     now += std::chrono::milliseconds(ms);

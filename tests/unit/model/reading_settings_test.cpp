@@ -16,6 +16,7 @@
 #include "model/model_loader.hpp"
 #include "model/servo.hpp"
 #include "shipped_model.hpp"
+#include "table_access.hpp"
 
 using namespace dxlemu;
 using model::Servo;
@@ -63,16 +64,7 @@ struct Bench {
         {protocol(), servo.id(), wire::Read{it.address, it.size}}, model::Addressing::Unicast);
     REQUIRE(r.error == 0);
     REQUIRE(r.params.size() == it.size);
-    std::uint64_t raw = 0;
-    for (std::size_t i = 0; i < it.size; ++i) {
-      raw |= std::uint64_t{r.params[i]} << (8 * i);
-    }
-    const int bits = 8 * it.size;
-    auto value = static_cast<std::int64_t>(raw);
-    if (it.is_signed && bits < 64 && (raw >> (bits - 1)) != 0) {
-      value -= std::int64_t{1} << bits;
-    }
-    return value;
+    return test::from_le(r.params, it.is_signed);
   }
   /// Lets `ms` of simulated time pass (the motion model catches up, as before an instruction).
   void wait(int ms) {

@@ -32,4 +32,18 @@ inline std::vector<std::uint8_t> le(std::int64_t value, std::size_t n) {
   return out;
 }
 
+/// The value of the little-endian `bytes` of an item, two's complement when `is_signed`.
+inline std::int64_t from_le(const std::vector<std::uint8_t>& bytes, bool is_signed) {
+  std::uint64_t raw = 0;
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    raw |= std::uint64_t{bytes[i]} << (8 * i);
+  }
+  const std::size_t bits = 8 * bytes.size();
+  auto value = static_cast<std::int64_t>(raw);
+  if (is_signed && bits > 0 && bits < 64 && (raw >> (bits - 1)) != 0) {
+    value -= std::int64_t{1} << bits;
+  }
+  return value;
+}
+
 }  // namespace dxlemu::test
