@@ -123,13 +123,17 @@ void Protection::latch(FaultSet active) {
   const auto status = static_cast<std::uint8_t>(motion_.get(items.hardware_error_status));
   if ((selected & ~status) != 0) {
     motion_.put(items.hardware_error_status, status | selected);
-    if (motion_.torque_on()) {
-      motion_.table.set(*items.torque_enable, 0);
-      motion_.profile.reset();
-      motion_.velocity_demand = 0;
-    }
-    at_limit_ms_ = 0;
+    turn_torque_off_for_error();
   }
+}
+
+void Protection::turn_torque_off_for_error() {
+  if (motion_.torque_on()) {
+    motion_.table.set(*motion_.items.torque_enable, 0);
+    motion_.profile.reset();
+    motion_.velocity_demand = 0;
+  }
+  at_limit_ms_ = 0;
 }
 
 void Protection::latch_error_code(FaultSet active, double volts) {
@@ -156,12 +160,7 @@ void Protection::latch_error_code(FaultSet active, double volts) {
       continue;  // already reported; "The same error does not occur multiple times"
     }
     record_error_code(code);
-    if (motion_.torque_on()) {
-      motion_.table.set(*items.torque_enable, 0);
-      motion_.profile.reset();
-      motion_.velocity_demand = 0;
-    }
-    at_limit_ms_ = 0;
+    turn_torque_off_for_error();
   }
   publish_controller_state();
 }

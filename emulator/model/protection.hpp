@@ -46,6 +46,8 @@ class Protection {
   void alarm_shutdown(FaultSet active);
   void latch(FaultSet active);
   void latch_error_code(FaultSet active, double volts);
+  /// A latched error turns torque off: the motor stops driving and the profile ends.
+  void turn_torque_off_for_error();
   void record_error_code(std::uint8_t code);
   void publish_controller_state();
 
