@@ -15,7 +15,9 @@
 // charged one processing time and one Return Delay Time). Both processes read the same
 // CLOCK_MONOTONIC. The first reply of each case is checked with the codec (every packet framed,
 // from the expected IDs, error 0); every later one must equal it byte for byte (the servos stand
-// still, so their answers do not change). The result is a Markdown table on stdout
+// still, so their answers do not change). The last column is the CPU time dxlemu's threads ran
+// during the case (/proc/PID/task/*/schedstat) over its round trips, warm-up included: what the
+// real-time driver costs per reply chain. The result is a Markdown table on stdout
 // (scripts/bench.sh puts it in docs/benchmarks.md); progress goes to stderr.
 //
 // Usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N]
@@ -116,6 +118,8 @@ struct Result {
   std::vector<nanoseconds> lateness;  // one per round trip after the warm-up
   int lost = 0;                       // no reply within the timeout, or not the expected one
   int skipped = 0;                    // write() took longer than kMaxWriteTime
+  // dxlemu's CPU time (all threads) per round trip, warm-up included; empty without a daemon.
+  std::optional<nanoseconds> cpu_per_round_trip;
 };
 
 // A 2.0 status packet's size with `params` parameter bytes: header (4), ID, LENGTH (2),
@@ -156,8 +160,10 @@ bool valid_replies(std::span<const std::uint8_t> bytes, const Case& c) {
   return true;
 }
 
-Result measure(int fd, std::uint32_t bps, const Case& c, const Options& options) {
+Result measure(int fd, std::uint32_t bps, const Case& c, const Options& options,
+               std::optional<pid_t> daemon) {
   Result r;
+  const nanoseconds cpu_before = daemon ? dxlemu::bench::run_time(*daemon) : nanoseconds{0};
   const nanoseconds modelled = c.modelled(bps);
   r.lateness.reserve(static_cast<std::size_t>(options.count));
   std::vector<std::uint8_t> reply(c.reply_bytes());
@@ -185,6 +191,10 @@ Result measure(int fd, std::uint32_t bps, const Case& c, const Options& options)
       r.lateness.push_back(*got - (sent + modelled));
     }
   }
+  if (daemon) {
+    r.cpu_per_round_trip =
+        (dxlemu::bench::run_time(*daemon) - cpu_before) / (options.warmup + options.count);
+  }
   return r;
 }
 
@@ -194,12 +204,18 @@ void print_row(std::uint32_t bps, const Case& c, Result r) {
   std::cout << "| " << bps << " | " << c.name << " | " << r.lateness.size() << " | " << r.lost
             << " | " << r.skipped << " | " << us(c.modelled(bps)) << " | ";
   if (r.lateness.empty()) {
-    std::cout << "- | - | - | - |" << std::endl;
-    return;
+    std::cout << "- | - | - | - | ";
+  } else {
+    std::cout << us(r.lateness.front()) << " | "
+              << us(dxlemu::bench::percentile(r.lateness, kMedian)) << " | "
+              << us(dxlemu::bench::percentile(r.lateness, kP99)) << " | " << us(r.lateness.back())
+              << " | ";
   }
-  std::cout << us(r.lateness.front()) << " | " << us(dxlemu::bench::percentile(r.lateness, kMedian))
-            << " | " << us(dxlemu::bench::percentile(r.lateness, kP99)) << " | "
-            << us(r.lateness.back()) << " |" << std::endl;
+  if (r.cpu_per_round_trip) {
+    std::cout << us(*r.cpu_per_round_trip) << " |" << std::endl;
+  } else {
+    std::cout << "- |" << std::endl;
+  }
 }
 
 std::vector<Case> cases() {
@@ -276,8 +292,8 @@ Options parse(int argc, char** argv) {
 int main(int argc, char** argv) {
   return dxlemu::bench::bench_main("reply_latency", argc, argv, parse, [](const Options& options) {
     std::cout << "| baud | instruction | round trips | lost | skipped | modelled (µs) | min (µs) | "
-                 "median (µs) | p99 (µs) | max (µs) |\n"
-                 "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+                 "median (µs) | p99 (µs) | max (µs) | dxlemu CPU per round trip (µs) |\n"
+                 "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
               << std::endl;
     for (const std::uint32_t bps : options.bauds) {
       std::optional<dxlemu::bench::Daemon> daemon;
@@ -291,7 +307,9 @@ int main(int argc, char** argv) {
       const int fd = dxlemu::bench::open_port(daemon ? daemon->pty() : options.pty, bps);
       for (const Case& c : cases()) {
         std::cerr << "reply_latency: " << c.name << " at " << bps << " bit/s\n";
-        print_row(bps, c, measure(fd, bps, c, options));
+        print_row(bps, c,
+                  measure(fd, bps, c, options,
+                          daemon ? std::optional<pid_t>(daemon->pid()) : std::nullopt));
       }
       ::close(fd);
     }

@@ -11,4 +11,11 @@ std::vector<model::Servo*> BusPortView::servos() const {
   return out;
 }
 
+std::optional<bus::LatenessSummary> BusPortView::lateness() const {
+  if (guard_ == nullptr) {
+    return std::nullopt;
+  }
+  return guard_->summary();
+}
+
 }  // namespace dxlemu::app

@@ -11,8 +11,10 @@ namespace dxlemu::app {
 /// daemon and the control API's tests wire a port the same way.
 class BusPortView final : public control::PortView {
  public:
-  /// A view of `bus`, which must outlive it.
-  explicit BusPortView(bus::Bus& bus) : bus_(bus) {}
+  /// A view of `bus`, and of the guard that measures how late its replies go out if there is
+  /// one; both must outlive the view.
+  explicit BusPortView(bus::Bus& bus, const bus::LateReplyGuard* guard = nullptr)
+      : bus_(bus), guard_(guard) {}
 
   std::vector<model::Servo*> servos() const override;
   void catch_up() override { bus_.catch_up(); }
@@ -21,9 +23,11 @@ class BusPortView final : public control::PortView {
   void detach(model::Servo& servo) override { bus_.detach(servo); }
   void power_on(model::Servo& servo) override { bus_.power_on(servo); }
   bus::BusStats stats() const override { return bus_.stats(); }
+  std::optional<bus::LatenessSummary> lateness() const override;
 
  private:
   bus::Bus& bus_;
+  const bus::LateReplyGuard* guard_;
 };
 
 }  // namespace dxlemu::app

@@ -1,5 +1,6 @@
 #include "app/command_line.hpp"
 
+#include <chrono>
 #include <map>
 #include <stdexcept>
 
@@ -125,6 +126,19 @@ void add_daemon_options(CLI::App& run, CommandLine& line) {
                  "Realtime timing: the PTY's hand-over delay to take off reply times, in us "
                  "(default: measured at start; 0: none; docs/timing.md)")
       ->check(CLI::Range(0, 10000));
+  line.late_reply_limit_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(bus::LateReplyPolicy{}.drop_after)
+          .count();
+  run.add_option("--late-reply-limit-ms", line.late_reply_limit_ms,
+                 "Drop a reply, instead of sending it, when the machine made it later than this "
+                 "against its modelled time (0: never drop; docs/timing.md \"Late replies\")")
+      ->check(CLI::Range(0, 60000))
+      ->capture_default_str();
+  run.add_option("--realtime-priority", options.realtime_priority,
+                 "Run the daemon's thread under SCHED_FIFO at this priority (1 ~ 99; 10 is "
+                 "plenty) with its memory locked, where the system permits it "
+                 "(docs/timing.md \"Late replies\")")
+      ->check(CLI::Range(1, 99));
   run.add_option("--seed", options.seed,
                  "Seeds the random choices of fault injection (docs/faults.md); default 1");
   line.tick_hz = kDefaultTickHz;

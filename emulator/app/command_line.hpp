@@ -43,6 +43,7 @@ struct CommandLine {
   RunOptions options;  ///< what --state, --control, --trace, --pcap, --scenario, --seed set
   std::string timing;  ///< --timing, before kTimingModes
   std::optional<std::int64_t> handover_us;  ///< --pty-handover-us
+  std::int64_t late_reply_limit_ms = 0;     ///< --late-reply-limit-ms
   int tick_hz = 0;                          ///< --tick-hz
   std::string log_level;                    ///< --log-level
   CtlArguments ctl;

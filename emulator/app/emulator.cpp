@@ -13,11 +13,13 @@
 #include "app/log.hpp"
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
+#include "bus/late_reply_guard.hpp"
 #include "control/reply.hpp"
 #include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
 #include "io/pty_handover.hpp"
 #include "io/pty_link.hpp"
+#include "io/realtime_scheduling.hpp"
 
 namespace dxlemu::app {
 namespace {
@@ -30,6 +32,9 @@ constexpr std::chrono::milliseconds kShutdownFlush{100};
 struct Emulator::Port {
   PortConfig config;
   std::unique_ptr<io::PtyLink> pty;
+  /// Between the bus and the PTY under realtime and fast timing: measures how late replies go
+  /// out and drops those the client no longer waits for.
+  std::unique_ptr<bus::LateReplyGuard> guard;
   std::unique_ptr<bus::Bus> bus;
   std::unique_ptr<BusPortView> view;  // the bus as the control API sees it
 };
@@ -63,6 +68,12 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         std::chrono::system_clock::now().time_since_epoch());
     pcap_ = std::make_unique<PcapWriter>(pcap_file_, start);
   }
+  if (options_.realtime_priority) {
+    const io::RealtimeScheduling granted =
+        io::request_realtime_scheduling(*options_.realtime_priority);
+    log(granted.fifo && granted.locked ? LogLevel::Info : LogLevel::Warn,
+        "--realtime-priority: " + granted.message);
+  }
   if (options_.timing == TimingMode::Realtime) {
     handover_ = options_.pty_handover.value_or(io::measure_pty_handover());
     log(LogLevel::Info,
@@ -75,8 +86,20 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     auto port = std::make_unique<Port>();
     port->config = port_config;
     port->pty = std::make_unique<io::PtyLink>(io_, port_config.link);
-    port->bus = std::make_unique<bus::Bus>(scheduler_, *port->pty);
-    port->view = std::make_unique<BusPortView>(*port->bus);
+    bus::ByteLink* link = port->pty.get();
+    if (options_.timing != TimingMode::Manual) {
+      // Under manual timing simulated time is not the wall clock's: nothing can be late.
+      bus::LateReplyPolicy policy;
+      policy.drop_after = options_.late_reply_limit;
+      port->guard = std::make_unique<bus::LateReplyGuard>(
+          *link, [this] { return driver_.wall_now(); }, policy,
+          [name = port_config.name](const std::string& message) {
+            log(LogLevel::Warn, name + ": " + message);
+          });
+      link = port->guard.get();
+    }
+    port->bus = std::make_unique<bus::Bus>(scheduler_, *link);
+    port->view = std::make_unique<BusPortView>(*port->bus, port->guard.get());
     if (options_.timing != TimingMode::Realtime) {
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
@@ -262,6 +285,7 @@ void Emulator::finish_handler() {
     trace_.flush();
   }
   save_state_if_changed();
+  cpu_wait_.mark();  // the thread goes back to waiting for the next handler
 }
 
 void Emulator::save_state_if_changed() {
@@ -318,8 +342,11 @@ void Emulator::run(std::ostream& out) {
     port->pty->start([this, &bus](std::span<const std::uint8_t> bytes, std::uint32_t bps) {
       driver_.catch_up();
       // The kernel took handover_ to bring the bytes here and will take about as long to take
-      // the reply back: count them as written that much earlier (docs/timing.md).
-      const sim::SimTime arrived = std::max(sim::SimTime{}, scheduler_.now() - handover_);
+      // the reply back, and the bytes woke this thread, which then waited for a CPU: count them
+      // as written that much earlier (docs/timing.md "PTY hand-over", "Late replies").
+      const sim::SimDuration waited =
+          options_.timing == TimingMode::Manual ? sim::SimDuration{0} : cpu_wait_.since_mark();
+      const sim::SimTime arrived = std::max(sim::SimTime{}, scheduler_.now() - handover_ - waited);
       bus.receive(bytes, arrived, bps);
       // Saved before rearm(), which delivers replies due now (every reply under fast and manual
       // timing): an EEPROM write is in the state file before its status reaches the client, so
@@ -355,10 +382,18 @@ void Emulator::run(std::ostream& out) {
   finish_handler();
   for (const auto& port : ports_) {
     const bus::BusStats& s = port->bus->stats();
+    std::string late;
+    if (port->guard) {
+      const bus::LatenessSummary l = port->guard->summary();
+      late = ", " + std::to_string(l.over[0]) + " replies more than " +
+             std::to_string(bus::LatenessSummary::kThresholds[0].count()) + " ms late (at most " +
+             std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(l.max).count()) +
+             " us), " + std::to_string(l.dropped) + " dropped as late";
+    }
     log(LogLevel::Info, port->config.name + ": " + std::to_string(s.frames) + " packets, " +
                             std::to_string(s.replies) + " replies, " +
                             std::to_string(s.bad_checks) + " bad checks, " +
-                            std::to_string(s.collisions) + " collisions");
+                            std::to_string(s.collisions) + " collisions" + late);
   }
 }
 

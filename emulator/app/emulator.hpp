@@ -13,9 +13,11 @@
 #include "app/bus_state.hpp"
 #include "app/model_library.hpp"
 #include "app/pcap_writer.hpp"
+#include "bus/late_reply_guard.hpp"
 #include "control/api.hpp"
 #include "control/target.hpp"
 #include "io/control_server.hpp"
+#include "io/cpu_wait.hpp"
 #include "io/realtime_driver.hpp"
 #include "sim/scheduler.hpp"
 
@@ -48,6 +50,11 @@ struct RunOptions {
   std::optional<sim::SimDuration> pty_handover;
   /// The motion model's tick period (docs/motion.md).
   sim::SimDuration tick = std::chrono::milliseconds(1);
+  /// Under realtime and fast timing, replies later than this against their modelled time are
+  /// dropped (docs/timing.md "Late replies"); zero never drops.
+  sim::SimDuration late_reply_limit = bus::LateReplyPolicy{}.drop_after;
+  /// SCHED_FIFO at this priority, and memory locked, where permitted (--realtime-priority).
+  std::optional<int> realtime_priority;
 };
 
 /// The control socket used when --control is not given: dxlemu-PID.sock in $XDG_RUNTIME_DIR, or
@@ -102,6 +109,7 @@ class Emulator : public control::Target {
   io::RealTimeDriver driver_;
   faults::Injector injector_;     // outlives the buses (declared before ports_)
   sim::SimDuration handover_{0};  // subtracted from the arrival time of the client's bytes
+  io::CpuWait cpu_wait_;          // marked when each handler ends
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
   std::ofstream pcap_file_;

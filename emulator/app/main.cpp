@@ -168,6 +168,7 @@ void serve(const dxlemu::app::CommandLine& line) {
   dxlemu::app::RunOptions options = line.options;
   options.timing = dxlemu::app::timing_mode(line.timing);
   options.tick = std::chrono::nanoseconds(std::chrono::seconds(1)) / line.tick_hz;
+  options.late_reply_limit = std::chrono::milliseconds(line.late_reply_limit_ms);
   if (line.handover_us) {
     options.pty_handover = std::chrono::microseconds(*line.handover_us);
   }

@@ -89,11 +89,13 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol pr
                   std::vector<Settlement> settlements, bool is_reply) {
   auto outgoing = std::make_shared<Outgoing>();
   outgoing_.push_back(outgoing);
-  scheduler_.schedule_at(at, [this, outgoing, protocol, is_reply, bytes = std::move(bytes),
+  scheduler_.schedule_at(at, [this, at, outgoing, protocol, is_reply, bytes = std::move(bytes),
                               settlements = std::move(settlements)] {
     std::erase(outgoing_, outgoing);
     if (!outgoing->cancelled && !bytes.empty()) {
-      if (link_.deliver(bytes, scheduler_.now())) {
+      // The modelled time, not now(): when it had passed before the event could run (bytes read
+      // late off a busy machine), the link sees by how much.
+      if (link_.deliver(bytes, at)) {
         stats_.replies += is_reply ? 1 : 0;
       } else {
         ++stats_.unread_drops;

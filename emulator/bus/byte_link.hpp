@@ -16,8 +16,9 @@ class ByteLink {
   virtual ~ByteLink() = default;
 
   /// Hands `bytes` to the client at simulated time `at`, the moment their last byte would have
-  /// arrived on a real line. Called from a scheduler event, at `at`. Returns false when the link
-  /// dropped them instead (the client is not reading: docs/bus.md "Statistics").
+  /// arrived on a real line. Called from a scheduler event, at `at`, or at once when `at` had
+  /// already passed (the instruction was read late). Returns false when the link dropped them
+  /// instead (the client is not reading: docs/bus.md "Statistics").
   virtual bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) = 0;
 };
 

@@ -44,13 +44,37 @@ ordered_json servo_summary(const model::Servo& servo) {
   return out;
 }
 
-ordered_json stats_json(const bus::BusStats& s) {
-  return {{"bytes_in", s.bytes_in},           {"frames", s.frames},
-          {"garbage_bytes", s.garbage_bytes}, {"bad_checks", s.bad_checks},
-          {"truncated", s.truncated},         {"impossible_lengths", s.impossible_lengths},
-          {"decode_errors", s.decode_errors}, {"replies", s.replies},
-          {"unread_drops", s.unread_drops},   {"collisions", s.collisions},
-          {"id_conflicts", s.id_conflicts},   {"faults_injected", s.faults_injected}};
+double microseconds(sim::SimDuration d) {
+  return static_cast<double>(d.count()) / 1e3;
+}
+
+ordered_json lateness_json(const bus::LatenessSummary& s) {
+  ordered_json over = ordered_json::object();
+  for (std::size_t i = 0; i < s.over.size(); ++i) {
+    over[std::to_string(bus::LatenessSummary::kThresholds[i].count()) + "ms"] = s.over[i];
+  }
+  return {{"deliveries", s.deliveries},
+          {"p50_us", microseconds(s.p50)},
+          {"p99_us", microseconds(s.p99)},
+          {"max_us", microseconds(s.max)},
+          {"over", std::move(over)},
+          {"dropped", s.dropped},
+          {"drop_after_ms", static_cast<double>(s.drop_after.count()) / 1e6}};
+}
+
+ordered_json stats_json(const PortView& view) {
+  const bus::BusStats s = view.stats();
+  ordered_json out = {
+      {"bytes_in", s.bytes_in},           {"frames", s.frames},
+      {"garbage_bytes", s.garbage_bytes}, {"bad_checks", s.bad_checks},
+      {"truncated", s.truncated},         {"impossible_lengths", s.impossible_lengths},
+      {"decode_errors", s.decode_errors}, {"replies", s.replies},
+      {"unread_drops", s.unread_drops},   {"collisions", s.collisions},
+      {"id_conflicts", s.id_conflicts},   {"faults_injected", s.faults_injected}};
+  if (const auto lateness = view.lateness()) {
+    out["lateness"] = lateness_json(*lateness);
+  }
+  return out;
 }
 
 /// The port and servo a request addresses, for commands that act on the bus side of a servo.
@@ -104,12 +128,12 @@ ordered_json stats(Target& target, const Args& args) {
   ordered_json out = ordered_json::object();
   if (args.has("port")) {
     const Port port = port_of(target, args);
-    out[port.name] = stats_json(port.view.stats());
+    out[port.name] = stats_json(port.view);
     return out;
   }
   for (const auto& name : target.port_names()) {
     if (const PortView* view = target.port(name)) {
-      out[name] = stats_json(view->stats());
+      out[name] = stats_json(*view);
     }
   }
   return out;

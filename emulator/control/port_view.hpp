@@ -1,8 +1,10 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "bus/bus_stats.hpp"
+#include "bus/late_reply_guard.hpp"
 #include "model/servo.hpp"
 
 namespace dxlemu::control {
@@ -32,6 +34,9 @@ class PortView {
 
   /// The port's counters since it was made.
   virtual bus::BusStats stats() const = 0;
+  /// How late the port's replies went out against their modelled times (docs/timing.md "Late
+  /// replies"); empty where nothing measures it (manual timing, tests).
+  virtual std::optional<bus::LatenessSummary> lateness() const { return std::nullopt; }
 };
 
 }  // namespace dxlemu::control

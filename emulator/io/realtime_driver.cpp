@@ -50,8 +50,8 @@ void RealTimeDriver::rearm() {
       run_due();
       continue;
     }
-    // Wall-clock time: wake kSpinWindow early and spin the rest (spin_to_deadline).
-    const auto expiry = to_steady(*deadline) - kSpinWindow;
+    // Wall-clock time: wake as early as the timer is usually late, and spin the rest.
+    const auto expiry = to_steady(*deadline) - lead_.lead();
     if (armed_ && *armed_ == expiry) {
       return;  // already waiting for this deadline
     }
@@ -77,6 +77,7 @@ void RealTimeDriver::rearm() {
       if (ec) {
         return;  // re-armed or shut down
       }
+      lead_.add(std::chrono::steady_clock::now() - *armed_);
       armed_.reset();
       spin_to_deadline();
       run_due();

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "sim/scheduler.hpp"
+#include "sim/wake_lead.hpp"
 
 namespace dxlemu::io {
 
@@ -26,16 +27,20 @@ enum class Pace {
 /// (absolute, so errors do not accumulate). Nothing is polled while nothing is due.
 ///
 /// Precision (docs/architecture.md "The real-time driver", docs/benchmarks.md): the constructor
-/// sets the calling thread's Linux timer slack to 1 ns, and with Pace::WallClock the timer wakes
-/// kSpinWindow before each deadline, the last stretch being a busy-wait on steady_clock.
+/// sets the calling thread's Linux timer slack to 1 ns, and with Pace::WallClock the timer is
+/// armed early by what the driver learned of its own wake-ups (sim::WakeLead), the last stretch
+/// being a busy-wait on steady_clock.
 class RealTimeDriver {
  public:
-  /// How long before a deadline the timer wakes the thread, which then spins on steady_clock
-  /// until the deadline. Even with 1 ns of timer slack a wake-up from a sleep of 0.5 ~ 4 ms came
-  /// 50 ~ 120 µs late in the median (p90 70 ~ 170 µs) on the 2-CPU virtual machine of
-  /// docs/benchmarks.md; a spin ends within a clock read. The cost: at most this much CPU time
-  /// per deadline, and only while an event is due that soon.
+  /// The most a timer is armed before its deadline, and the most the thread spins. Even with
+  /// 1 ns of timer slack a wake-up from a sleep of 0.5 ~ 4 ms came 50 ~ 120 µs late in the median
+  /// (p90 70 ~ 170 µs) on the 2-CPU virtual machine of docs/benchmarks.md; a spin ends within a
+  /// clock read.
   static constexpr std::chrono::microseconds kSpinWindow{200};
+  /// The share of the timer's wake-ups the early arming covers: the median. Each wake-up earlier
+  /// than the lead spins the difference, each later one misses its deadline by the difference;
+  /// the median keeps both to the spread of the wake-ups, a few tens of µs.
+  static constexpr double kWakeQuantile = 0.5;
 
   /// Binds `scheduler` to a timer on `io`. Sets the timer slack of the calling thread, which must
   /// be the thread that runs `io` (threads it starts later inherit the setting).
@@ -52,8 +57,13 @@ class RealTimeDriver {
   /// Called after the events of each timer wake-up have run (e.g. to save what they changed).
   void set_after_events(std::function<void()> fn) { after_events_ = std::move(fn); }
 
- private:
+  /// The steady_clock time since the driver started, as simulated time (what simulated time is
+  /// under Pace::WallClock, whether or not the scheduler has caught up with it).
   sim::SimTime wall_now() const;
+  /// How long before a deadline the timer is armed now.
+  std::chrono::nanoseconds wake_lead() const { return lead_.lead(); }
+
+ private:
   std::chrono::steady_clock::time_point to_steady(sim::SimTime t) const;
   void spin_to_deadline() const;
   /// Cancels the pending wait, if any.
@@ -69,6 +79,7 @@ class RealTimeDriver {
   std::optional<std::chrono::steady_clock::time_point> armed_;
   /// A spin-and-run handler is posted and has not run yet.
   bool spin_posted_ = false;
+  sim::WakeLead lead_{kWakeQuantile, kSpinWindow};
   std::chrono::steady_clock::time_point start_;
 };
 
