@@ -15,7 +15,7 @@ import tempfile
 import unittest
 from pathlib import Path
 
-from user_run import run_user_tests, user_environment
+from user_run import require_modules, run_user_tests, user_environment
 
 DEBIAN_PYTHON = "/usr/bin/python3"
 SITE = Path("lib") / "python3" / "dist-packages"
@@ -25,6 +25,7 @@ CMAKE = BUILD = VERSION = ""
 class InstalledTreeTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
+        require_modules(DEBIAN_PYTHON, {"pytest": "python3-pytest"})
         cls._tmp = tempfile.TemporaryDirectory(prefix="dxlemu-install-")
         cls.tmp = Path(cls._tmp.name)
         cls.prefix = cls.tmp / "prefix"

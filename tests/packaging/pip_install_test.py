@@ -18,7 +18,7 @@ import tempfile
 import unittest
 from pathlib import Path
 
-from user_run import run_user_tests, user_environment
+from user_run import require_modules, run_user_tests, user_environment
 
 SOURCE = Path(__file__).resolve().parents[2] / "python"
 DEBIAN_PYTHON = "/usr/bin/python3"
@@ -40,6 +40,9 @@ class PipInstallTest(unittest.TestCase):
         binary = os.environ.get("DXLEMU_BIN")
         if not binary or not os.path.isfile(binary):
             raise AssertionError("DXLEMU_BIN must name the dxlemu binary under test")
+        require_modules(DEBIAN_PYTHON, {"ensurepip": "python3-venv", "pytest": "python3-pytest",
+                                        "setuptools": "python3-setuptools",
+                                        "wheel": "python3-wheel"})
         cls._tmp = tempfile.TemporaryDirectory(prefix="dxlemu-pip-")
         cls.tmp = Path(cls._tmp.name)
         checkout = cls.tmp / "checkout"

@@ -14,6 +14,16 @@ TEST_COUNT = 3
 """Tests in user_tests/test_installed_plugin.py: a run must pass them all."""
 
 
+def require_modules(python: str, packages: dict[str, str]) -> None:
+    """Raises AssertionError naming the Debian package of every module (key) `python` cannot
+    import: the packaging tests need Debian's, which scripts/setup.sh installs."""
+    missing = [package for module, package in packages.items()
+               if subprocess.run([python, "-c", f"import {module}"], stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL).returncode != 0]
+    if missing:
+        raise AssertionError(f"{python} lacks Debian package(s) {', '.join(missing)}")
+
+
 def path_without_dxlemu() -> str:
     """$PATH minus every directory holding a `dxlemu`, so that the package has to find its
     binary itself (a wrapper such as valgrind stays reachable)."""
