@@ -21,7 +21,7 @@ def installed_binary() -> Path | None:
     (python/install/dist_info.py), holds its path relative to the package's directory, so that
     a moved prefix still finds it. None for a checkout's or a pip-installed copy."""
     try:
-        from ._installed import BINARY  # pylint: disable=import-outside-toplevel
+        from ._installed import BINARY
     except ImportError:
         return None
     return Path(os.path.normpath(_PACKAGE_DIR / BINARY))
@@ -45,9 +45,11 @@ def _pip_source() -> Path | None:
 
 
 def checkout_binaries() -> list[Path]:
-    """build/emulator/dxlemu of the checkout this package sits in (its python/dxlemu), then of
-    the checkout pip installed it from (whose python/ direct_url.json names)."""
-    places = [_PACKAGE_DIR.resolve().parents[1] / _CHECKOUT_BINARY]
+    """build/emulator/dxlemu of the checkout this package sits in (its python/dxlemu, beside
+    python/pyproject.toml), then of the checkout pip installed it from (whose python/
+    direct_url.json names)."""
+    here = _PACKAGE_DIR.resolve().parent
+    places = [here.parent / _CHECKOUT_BINARY] if (here / "pyproject.toml").is_file() else []
     source = _pip_source()
     if source is not None:
         places.append(source.parent / _CHECKOUT_BINARY)

@@ -3,9 +3,11 @@
 Once the package is installed (pip, `cmake --install`, the .deb) pytest loads it by itself,
 through the package's pytest11 entry point, named `dxlemu.pytest_plugin` like this module so
 that the ways of enabling it uninstalled still work beside it: `pytest -p dxlemu.pytest_plugin`,
-or `pytest_plugins = ["dxlemu.pytest_plugin"]` in the top-level conftest.py. By default the bus is the daemon's default (three XM430-W350, IDs
-1 ~ 3, 57,600 bit/s) with `--timing fast`; a test changes that with the `dxlemu` marker, whose
-keyword arguments go to dxlemu.Emulator:
+or `pytest_plugins = ["dxlemu.pytest_plugin"]` in the top-level conftest.py.
+
+By default the bus is the daemon's default (three XM430-W350, IDs 1 ~ 3, 57,600 bit/s) with
+`--timing fast`; a test changes that with the `dxlemu` marker, whose keyword arguments go to
+dxlemu.Emulator:
 
     @pytest.mark.dxlemu(servos=["xm430-w350:1-4"], timing="manual")
     def test_something(dxlemu):
