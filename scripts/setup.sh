@@ -18,6 +18,9 @@ packages=(
   python3             # end-to-end tests and examples (standard library only)
   python3-serial      # pyserial, for the end-to-end test that drives dxlemu as DynamixelSDK does
   python3-pytest      # the pytest fixture of python/dxlemu is tested with Debian's pytest
+  python3-venv        # the test of `pip install ./python` installs into a scratch venv
+  python3-setuptools  # builds python/dxlemu for pip offline (--no-build-isolation)
+  python3-wheel       # setuptools' bdist_wheel, which that build needs
   tshark              # CI checks the Wireshark dissector (scripts/dxlemu.lua) on a capture
 )
 

@@ -4,7 +4,8 @@
 - `Control` (control.py): the control API: get/set items, conditions, faults, clock, stats.
 - `Client`, `Port` (protocol.py): a minimal controller speaking DYNAMIXEL Protocol 2.0/1.0 over
   the emulator's pseudo-terminal.
-- pytest_plugin.py: the `dxlemu` fixture (`pytest -p dxlemu.pytest_plugin`).
+- pytest_plugin.py: the `dxlemu` fixture (loaded by pytest once the package is installed;
+  `pytest -p dxlemu.pytest_plugin` otherwise).
 
 See docs/python.md.
 """

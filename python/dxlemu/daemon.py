@@ -25,13 +25,11 @@ import subprocess
 import tempfile
 import threading
 import time
-from pathlib import Path
 from typing import IO, NamedTuple, Sequence
 
+from ._places import checkout_binaries, installed_binary
 from .control import Control, ControlError
 from .protocol import Client
-
-_REPO_BINARY = Path(__file__).resolve().parents[2] / "build" / "emulator" / "dxlemu"
 
 
 class DaemonError(Exception):
@@ -47,7 +45,9 @@ class DaemonError(Exception):
 
 def find_binary(binary: str | os.PathLike | None = None) -> str:
     """The dxlemu executable: `binary` when given, else $DXLEMU_BIN, else `dxlemu` on PATH, else
-    the build tree of the checkout this package sits in (build/emulator/dxlemu)."""
+    the one installed with this package (`cmake --install`, the .deb: `bin/dxlemu` of its
+    prefix), else the build of the checkout this package sits in or was pip-installed from
+    (build/emulator/dxlemu)."""
     if binary is not None:
         return os.fspath(binary)
     if os.environ.get("DXLEMU_BIN"):
@@ -55,10 +55,13 @@ def find_binary(binary: str | os.PathLike | None = None) -> str:
     on_path = shutil.which("dxlemu")
     if on_path:
         return on_path
-    if _REPO_BINARY.is_file():
-        return str(_REPO_BINARY)
-    raise DaemonError("no dxlemu binary: pass one, set DXLEMU_BIN, put dxlemu on PATH or build "
-                      f"the checkout ({_REPO_BINARY})")
+    installed = installed_binary()
+    places = ([installed] if installed is not None else []) + checkout_binaries()
+    for place in places:
+        if place.is_file():
+            return str(place)
+    raise DaemonError("no dxlemu binary: pass one, set DXLEMU_BIN, put dxlemu on PATH, or build "
+                      f"the checkout (looked for {', '.join(map(str, places))})")
 
 
 def wrapper_command() -> list[str]:

@@ -1,16 +1,20 @@
 """pytest fixture `dxlemu`: a running emulator on a temporary bus for one test, stopped after it.
 
-Enable it with `pytest -p dxlemu.pytest_plugin`, or `pytest_plugins = ["dxlemu.pytest_plugin"]`
-in the top-level conftest.py. By default the bus is the daemon's default (three XM430-W350, IDs
-1 ~ 3, 57,600 bit/s) with `--timing fast`; a test changes that with the `dxlemu` marker, whose
-keyword arguments go to dxlemu.Emulator:
+Once the package is installed (pip, `cmake --install`, the .deb) pytest loads it by itself,
+through the package's pytest11 entry point, named `dxlemu.pytest_plugin` like this module so
+that the ways of enabling it uninstalled still work beside it: `pytest -p dxlemu.pytest_plugin`,
+or `pytest_plugins = ["dxlemu.pytest_plugin"]` in the top-level conftest.py.
+
+By default the bus is the daemon's default (three XM430-W350, IDs 1 ~ 3, 57,600 bit/s) with
+`--timing fast`; a test changes that with the `dxlemu` marker, whose keyword arguments go to
+dxlemu.Emulator:
 
     @pytest.mark.dxlemu(servos=["xm430-w350:1-4"], timing="manual")
     def test_something(dxlemu):
         dxlemu.control.clock_step(ms=100)
 
-The binary is found as dxlemu.find_binary does ($DXLEMU_BIN, PATH, the checkout's build), or
-given with `--dxlemu-bin PATH`.
+The binary is found as dxlemu.find_binary does ($DXLEMU_BIN, PATH, the one installed with the
+package, the checkout's build), or given with `--dxlemu-bin PATH`.
 """
 from __future__ import annotations
 

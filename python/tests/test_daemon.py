@@ -2,9 +2,13 @@
 import json
 import os
 import re
+import sys
+import types
+from pathlib import Path
 
 import pytest
 
+import dxlemu._places
 from dxlemu import DaemonError, DaemonProcess, Emulator, find_binary
 
 
@@ -63,6 +67,48 @@ def test_the_binary_comes_from_the_argument_then_the_environment(monkeypatch):
     assert find_binary("/x/dxlemu") == "/x/dxlemu"
     monkeypatch.setenv("DXLEMU_BIN", "/y/dxlemu")
     assert find_binary() == "/y/dxlemu"
+
+
+def _executable(path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("#!/bin/sh\n")
+    path.chmod(0o755)
+    return path
+
+
+def _installed_at(monkeypatch, binary: Path) -> None:
+    """This copy of the package as `cmake --install` leaves it: an _installed.py naming
+    `binary` relative to the package's directory."""
+    package_dir = Path(dxlemu._places.__file__).parent
+    module = types.ModuleType("dxlemu._installed")
+    module.BINARY = os.path.relpath(binary, package_dir)
+    monkeypatch.setitem(sys.modules, "dxlemu._installed", module)
+
+
+def test_after_the_environment_come_path_then_the_installed_binary(monkeypatch, tmp_path):
+    monkeypatch.delenv("DXLEMU_BIN", raising=False)
+    installed = _executable(tmp_path / "prefix" / "bin" / "dxlemu")
+    _installed_at(monkeypatch, installed)
+    on_path = _executable(tmp_path / "path" / "dxlemu")
+    monkeypatch.setenv("PATH", str(on_path.parent))
+    assert find_binary() == str(on_path)
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    assert find_binary() == str(installed)
+
+
+def test_then_the_checkout_build_and_a_missing_one_names_every_place(monkeypatch, tmp_path):
+    monkeypatch.delenv("DXLEMU_BIN", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path / "empty"))
+    installed = tmp_path / "prefix" / "bin" / "dxlemu"  # recorded, but not there
+    _installed_at(monkeypatch, installed)
+    checkout = Path(dxlemu._places.__file__).resolve().parents[2]
+    monkeypatch.setattr(dxlemu._places, "_CHECKOUT_BINARY", Path("no-build") / "dxlemu")
+    with pytest.raises(DaemonError) as error:
+        find_binary()
+    assert f"looked for {installed}, {checkout / 'no-build' / 'dxlemu'}" in str(error.value)
+    # Any file stands for the checkout's build here: the test may run from a build elsewhere.
+    monkeypatch.setattr(dxlemu._places, "_CHECKOUT_BINARY", Path("python") / "pyproject.toml")
+    assert find_binary() == str(checkout / "python" / "pyproject.toml")
 
 
 def test_a_missing_binary_is_a_daemon_error_naming_its_path(monkeypatch):

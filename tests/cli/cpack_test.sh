@@ -35,8 +35,21 @@ for path in ./usr/bin/dxlemu ./usr/share/dxlemu/models/catalog.json \
   ./usr/share/doc/dxlemu/README.md; do
   grep -qE " $path\$" <<<"$contents" || fail "$path not in the package:"$'\n'"$contents"
 done
+# The Python package where Debian's python3 finds it, with its dist-info, and the path from it
+# to the binary installed with it.
+site=./usr/lib/python3/dist-packages
+for path in "$site/dxlemu/__init__.py" "$site/dxlemu/pytest_plugin.py" "$site/dxlemu/_installed.py" \
+  "$site/dxlemu-$version.dist-info/METADATA" "$site/dxlemu-$version.dist-info/entry_points.txt" \
+  "$site/dxlemu-$version.dist-info/RECORD"; do
+  grep -qE " $path\$" <<<"$contents" || fail "$path not in the package:"$'\n'"$contents"
+done
+installed=$(dpkg-deb --fsys-tarfile "$deb" | tar -xO "$site/dxlemu/_installed.py") ||
+  fail "cannot read $site/dxlemu/_installed.py"
+grep -qx "BINARY = '../../../../bin/dxlemu'" <<<"$installed" ||
+  fail "$site/dxlemu/_installed.py does not lead to /usr/bin/dxlemu:"$'\n'"$installed"
 # The executable is the only file in usr/bin; nothing else (tests, fuzzers, libraries) ships.
-others=$(grep -E '^-' <<<"$contents" | grep -vE ' ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)')
+others=$(grep -E '^-' <<<"$contents" | grep -vE ' ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)' |
+  grep -vE " $site/dxlemu(/[a-z_]+\.py|-$version\.dist-info/[A-Za-z_.]+)\$")
 [ -z "$others" ] || fail "unexpected files in the package:"$'\n'"$others"
 
-echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu and the model library"
+echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the model library and the Python package"

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # `cmake --install` into a temporary prefix, then checks that the installed dxlemu finds the
 # installed model library relative to itself, in preference to the source tree's models/.
-# Usage: install_test.sh CMAKE BUILD_DIR SOURCE_MODELS_DIR
+# Usage: install_test.sh CMAKE BUILD_DIR SOURCE_MODELS_DIR VERSION
 set -uo pipefail
 cmake=${1:?cmake}
 build=${2:?build directory}
 source_models=${3:?source models directory}
+version=${4:?version}
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -25,7 +26,8 @@ prefix=$tmp/prefix
 "$cmake" --install "$build" --prefix "$prefix" >"$tmp/install.log" 2>&1 ||
   fail "cmake --install: $(cat "$tmp/install.log")"
 
-# What is installed: the binary, the model library, the docs; no test, fuzz or bench target.
+# What is installed: the binary, the model library, the docs, the Python package; no test, fuzz or
+# bench target.
 models=$prefix/share/dxlemu/models
 [ -x "$prefix/bin/dxlemu" ] || fail "no bin/dxlemu"
 [ -f "$models/catalog.json" ] || fail "no share/dxlemu/models/catalog.json"
@@ -35,8 +37,17 @@ installed_count=$(find "$models" -maxdepth 1 -name '*.json' | wc -l)
 source_count=$(find "$source_models" -maxdepth 1 -name '*.json' | wc -l)
 [ "$installed_count" -eq "$source_count" ] ||
   fail "$installed_count model files installed, $source_count in $source_models"
-[ "$(ls "$prefix")" = "$(printf 'bin\nshare')" ] || fail "prefix holds: $(ls "$prefix")"
+[ "$(ls "$prefix")" = "$(printf 'bin\nlib\nshare')" ] || fail "prefix holds: $(ls "$prefix")"
 [ "$(ls "$prefix/bin")" = "dxlemu" ] || fail "bin/ holds: $(ls "$prefix/bin")"
+
+# The Python package in lib/python3/dist-packages with its dist-info (tests/packaging checks
+# that Python and pytest use them).
+site=$prefix/lib/python3/dist-packages
+[ "$(ls "$site")" = "$(printf 'dxlemu\ndxlemu-%s.dist-info' "$version")" ] ||
+  fail "lib/python3/dist-packages holds: $(ls "$site")"
+for module in __init__.py daemon.py pytest_plugin.py _installed.py; do
+  [ -f "$site/dxlemu/$module" ] || fail "no lib/python3/dist-packages/dxlemu/$module"
+done
 
 # The whole library is listed without DXLEMU_MODELS_DIR.
 models_listing "$prefix/bin/dxlemu"
