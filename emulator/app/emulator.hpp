@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "app/bus_config.hpp"
@@ -48,6 +49,11 @@ struct RunOptions {
   std::optional<sim::SimDuration> pty_handover;
   /// The motion model's tick period (docs/motion.md).
   sim::SimDuration tick = std::chrono::milliseconds(1);
+  /// The USB serial adapter's latency timer in ms on every port without its own
+  /// "adapter_latency_ms"; 0: no adapter (docs/timing.md "USB adapter latency").
+  int adapter_latency_ms = 0;
+  /// The adapter's chip on every port without its own "adapter_chip" (adapter_packet_data()).
+  std::string adapter_chip = kDefaultAdapterChip;
 };
 
 /// The control socket used when --control is not given: dxlemu-PID.sock in $XDG_RUNTIME_DIR, or
