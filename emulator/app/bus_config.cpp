@@ -1,6 +1,7 @@
 #include "app/bus_config.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -8,12 +9,25 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bus/usb_adapter_link.hpp"
+
 namespace dxlemu::app {
 namespace {
 
 using nlohmann::json;
 
 constexpr std::size_t kMaxPortName = 32;
+
+struct AdapterChip {
+  const char* name;
+  std::size_t packet_data;
+};
+// FTDI AN232B-04: a full-speed chip's USB packet is 64 bytes, a high-speed one's 512; 2 of each
+// are the modem status.
+constexpr std::array<AdapterChip, 2> kAdapterChips{{
+    {"ft232h", bus::kHighSpeedPacketData},
+    {"ft232r", bus::kFullSpeedPacketData},
+}};
 
 // RFC 6901: "~" and "/" inside a reference token are escaped.
 std::string pointer_token(const std::string& key) {
@@ -116,7 +130,8 @@ class ConfigParser {
   }
 
   PortConfig parse_port(const json& value, const std::string& at) {
-    object(value, at, {"name", "link", "servos", "description"});
+    object(value, at,
+           {"name", "link", "servos", "adapter_latency_ms", "adapter_chip", "description"});
     PortConfig port;
     port.name = string(member(value, at, "name"), at + "/name");
     // Port names appear in logs, traces and control-API requests and replies: keep them plain.
@@ -128,6 +143,17 @@ class ConfigParser {
     }
     if (value.contains("link")) {
       port.link = string(value["link"], at + "/link");
+    }
+    if (value.contains("adapter_latency_ms")) {
+      port.adapter_latency_ms = static_cast<int>(integer(
+          value["adapter_latency_ms"], at + "/adapter_latency_ms", 0, kMaxAdapterLatencyMs));
+    }
+    if (value.contains("adapter_chip")) {
+      port.adapter_chip = string(value["adapter_chip"], at + "/adapter_chip");
+      if (!adapter_packet_data(*port.adapter_chip)) {
+        fail(at + "/adapter_chip",
+             "unknown chip \"" + *port.adapter_chip + "\" (known: " + adapter_chip_names() + ")");
+      }
     }
     const json& servos = member(value, at, "servos");
     if (!servos.is_array()) {
@@ -218,6 +244,23 @@ class ConfigParser {
 };
 
 }  // namespace
+
+std::optional<std::size_t> adapter_packet_data(std::string_view chip) {
+  for (const AdapterChip& c : kAdapterChips) {
+    if (chip == c.name) {
+      return c.packet_data;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string adapter_chip_names() {
+  std::string names;
+  for (const AdapterChip& c : kAdapterChips) {
+    names += (names.empty() ? "" : ", ") + std::string(c.name);
+  }
+  return names;
+}
 
 BusConfig parse_config(const std::string& text, const std::string& origin,
                        const ModelLibrary& library) {

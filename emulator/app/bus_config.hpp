@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -25,11 +26,27 @@ struct ServoConfig {
   bool operator==(const ServoConfig&) const = default;
 };
 
+/// The longest latency timer a USB serial adapter takes, in ms (FTDI: 1 ~ 255; 0 is no adapter).
+inline constexpr int kMaxAdapterLatencyMs = 255;
+/// The adapter chip dxlemu models unless told otherwise: a U2D2's FT232H.
+inline constexpr const char* kDefaultAdapterChip = "ft232h";
+
+/// Data bytes per USB packet of the adapter chip `chip` ("ft232h", "ft232r"), or nullopt for
+/// another name (docs/timing.md "USB adapter latency").
+std::optional<std::size_t> adapter_packet_data(std::string_view chip);
+/// The chip names adapter_packet_data() knows, for messages: "ft232h, ft232r".
+std::string adapter_chip_names();
+
 /// One port: a PTY with an optional stable symlink, and its servos in bus order.
 struct PortConfig {
   std::string name;
   std::optional<std::filesystem::path> link;
   std::vector<ServoConfig> servos;
+  /// The USB serial adapter's latency timer on this port in ms, 0 for none; when absent, the
+  /// command line's --adapter-latency-ms.
+  std::optional<int> adapter_latency_ms;
+  /// The adapter's chip on this port; when absent, the command line's --adapter-chip.
+  std::optional<std::string> adapter_chip;
   bool operator==(const PortConfig&) const = default;
 };
 

@@ -139,6 +139,23 @@ void add_daemon_options(CLI::App& run, CommandLine& line) {
                  "plenty) with its memory locked, where the system permits it "
                  "(docs/timing.md \"Late replies\")")
       ->check(CLI::Range(1, 99));
+  run.add_option("--adapter-latency-ms", options.adapter_latency_ms,
+                 "Hand replies over as a USB serial adapter would, with this latency timer in ms "
+                 "(a U2D2's default: 16); 0: at once; a port's \"adapter_latency_ms\" overrides "
+                 "it (docs/timing.md)")
+      ->check(CLI::Range(0, kMaxAdapterLatencyMs))
+      ->capture_default_str();
+  run.add_option("--adapter-chip", options.adapter_chip,
+                 "The adapter's chip, for its USB packet size: ft232h (a U2D2, 510 data bytes) "
+                 "or ft232r (62)")
+      ->check(CLI::Validator(
+          [](const std::string& chip) {
+            return adapter_packet_data(chip)
+                       ? std::string()
+                       : "unknown chip \"" + chip + "\" (known: " + adapter_chip_names() + ")";
+          },
+          "CHIP"))
+      ->capture_default_str();
   run.add_option("--seed", options.seed,
                  "Seeds the random choices of fault injection (docs/faults.md); default 1");
   line.tick_hz = kDefaultTickHz;

@@ -14,6 +14,7 @@
 #include "app/trace_record.hpp"
 #include "bus/bus.hpp"
 #include "bus/late_reply_guard.hpp"
+#include "bus/usb_adapter_link.hpp"
 #include "control/reply.hpp"
 #include "control/scenario.hpp"
 #include "io/atomic_file.hpp"
@@ -27,6 +28,17 @@ namespace {
 // After a control API shutdown, how long replies still queued get to reach their clients.
 constexpr std::chrono::milliseconds kShutdownFlush{100};
 
+// The USB serial adapter in front of `port`: its own settings, else the command line's. None
+// under fast timing, whose replies come at once (docs/timing.md "USB adapter latency").
+bus::UsbAdapter usb_adapter(const PortConfig& port, const RunOptions& options) {
+  const int latency_ms = port.adapter_latency_ms.value_or(options.adapter_latency_ms);
+  const std::string chip = port.adapter_chip.value_or(options.adapter_chip);
+  if (latency_ms == 0 || options.timing == TimingMode::Fast) {
+    return {};
+  }
+  return {std::chrono::milliseconds(latency_ms), adapter_packet_data(chip).value()};
+}
+
 }  // namespace
 
 struct Emulator::Port {
@@ -35,6 +47,8 @@ struct Emulator::Port {
   /// Between the bus and the PTY under realtime and fast timing: measures how late replies go
   /// out and drops those the client no longer waits for.
   std::unique_ptr<bus::LateReplyGuard> guard;
+  std::unique_ptr<bus::UsbAdapterLink> adapter;  // between the bus and the PTY; null: none
+  std::string adapter_chip;
   std::unique_ptr<bus::Bus> bus;
   std::unique_ptr<BusPortView> view;  // the bus as the control API sees it
 };
@@ -97,6 +111,16 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
             log(LogLevel::Warn, name + ": " + message);
           });
       link = port->guard.get();
+    }
+    // The adapter before the guard: the guard measures when the adapter's USB packets go out.
+    if (const bus::UsbAdapter usb = usb_adapter(port_config, options_);
+        usb.latency > sim::SimDuration::zero()) {
+      port->adapter = std::make_unique<bus::UsbAdapterLink>(scheduler_, *link, usb);
+      port->adapter_chip = port_config.adapter_chip.value_or(options_.adapter_chip);
+      link = port->adapter.get();
+    } else if (options_.timing == TimingMode::Fast &&
+               port_config.adapter_latency_ms.value_or(options_.adapter_latency_ms) != 0) {
+      log(LogLevel::Warn, port_config.name + ": no USB adapter latency under --timing fast");
     }
     port->bus = std::make_unique<bus::Bus>(scheduler_, *link);
     port->view = std::make_unique<BusPortView>(*port->bus, port->guard.get());
@@ -230,6 +254,16 @@ nlohmann::json Emulator::port_info(std::string_view port) const {
       nlohmann::json info = {{"pty", p->pty->slave_path()}};
       if (p->config.link) {
         info["link"] = p->config.link->string();
+      }
+      info["adapter"] = {{"latency_ms", 0}};
+      if (p->adapter) {
+        const bus::UsbAdapter& usb = p->adapter->adapter();
+        info["adapter"] = {
+            {"latency_ms",
+             std::chrono::duration_cast<std::chrono::milliseconds>(usb.latency).count()},
+            {"chip", p->adapter_chip},
+            {"packet_data_bytes", usb.packet_data},
+            {"unread_drops", p->adapter->unread_drops()}};
       }
       return info;
     }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "app/bus_config.hpp"
@@ -55,6 +56,11 @@ struct RunOptions {
   sim::SimDuration late_reply_limit = bus::LateReplyPolicy{}.drop_after;
   /// SCHED_FIFO at this priority, and memory locked, where permitted (--realtime-priority).
   std::optional<int> realtime_priority;
+  /// The USB serial adapter's latency timer in ms on every port without its own
+  /// "adapter_latency_ms"; 0: no adapter (docs/timing.md "USB adapter latency").
+  int adapter_latency_ms = 0;
+  /// The adapter's chip on every port without its own "adapter_chip" (adapter_packet_data()).
+  std::string adapter_chip = kDefaultAdapterChip;
 };
 
 /// The control socket used when --control is not given: dxlemu-PID.sock in $XDG_RUNTIME_DIR, or

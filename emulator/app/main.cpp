@@ -149,7 +149,7 @@ void apply_bus_options(dxlemu::app::BusConfig& config, const dxlemu::app::ModelL
 
 // The one bus of --servo and --link: port dxl0.
 dxlemu::app::PortConfig port_of_options(const dxlemu::app::CommandLine& line) {
-  dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(line.link), {}};
+  dxlemu::app::PortConfig port{"dxl0", std::filesystem::path(line.link), {}, {}, {}};
   std::vector<std::string> servo_options = line.servo_options;
   if (servo_options.empty()) {
     servo_options.emplace_back(dxlemu::app::kDefaultServos);

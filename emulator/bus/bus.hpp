@@ -159,8 +159,9 @@ class Bus {
     Station* station;
     bool reboot;
   };
-  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, wire::Protocol protocol,
-               std::vector<Settlement> settlements, bool is_reply = true);
+  /// Delivers `bytes`, which crossed the line at `bps`, at `at`.
+  void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps,
+               wire::Protocol protocol, std::vector<Settlement> settlements, bool is_reply = true);
   void settle(Station& station, bool reboot, sim::SimTime at);
   /// Reboots `station`'s servo at `at`: it is silent while it boots.
   void restart(Station& station, sim::SimTime at);

@@ -100,10 +100,10 @@ void Bus::on_frame(const wire::Frame& frame) {
   if (faults_.active()) {
     const faults::InstructionEffects effects = faults_.instruction(packet.heard, fault_ids(packet));
     if (effects.echo) {
-      send_at(frame.raw, end, frame.protocol, {}, false);
+      send_at(frame.raw, end, client_bps_, frame.protocol, {}, false);
     }
     if (!effects.noise.empty()) {
-      send_at(effects.noise, end, frame.protocol, {}, false);
+      send_at(effects.noise, end, client_bps_, frame.protocol, {}, false);
     }
     if (effects.corrupt) {
       // The servos hear the packet with a broken check and answer as they would.

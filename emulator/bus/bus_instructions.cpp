@@ -150,9 +150,9 @@ void Bus::fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
   const faults::ReplyEffects effects =
       faults_.reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
   const SimTime start = packet.heard.end + turnaround(first) + effects.delay;
-  const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(),
-                                              first.station->servo->baud_bps());
-  send_at(std::move(bytes), delivered, wire::Protocol::V2, std::move(settlements));
+  const std::uint32_t bps = first.station->servo->baud_bps();
+  const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(), bps);
+  send_at(std::move(bytes), delivered, bps, wire::Protocol::V2, std::move(settlements));
 }
 
 void Bus::group_write(const Packet& packet) {

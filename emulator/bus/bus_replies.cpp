@@ -79,20 +79,23 @@ void Bus::answer(const Packet& packet, const std::vector<Slot>& slots, SimTime s
     if (slot.size() > 1) {
       ++stats_.id_conflicts;
     }
-    send_at(collide(packets), slot_end, status_protocol(*slot.front().station),
-            std::move(settlements));
+    send_at(collide(packets), slot_end, slot.front().station->servo->baud_bps(),
+            status_protocol(*slot.front().station), std::move(settlements));
     after = slot_end;
   }
 }
 
-void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, wire::Protocol protocol,
-                  std::vector<Settlement> settlements, bool is_reply) {
+void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::uint32_t bps,
+                  wire::Protocol protocol, std::vector<Settlement> settlements, bool is_reply) {
   auto outgoing = std::make_shared<Outgoing>();
   outgoing_.push_back(outgoing);
-  scheduler_.schedule_at(at, [this, at, outgoing, protocol, is_reply, bytes = std::move(bytes),
-                              settlements = std::move(settlements)] {
+  // The rate the bytes took on the line, as line_time() counted it.
+  const std::uint32_t rate = timing_ == ReplyTiming::Modelled ? bps : 0;
+  scheduler_.schedule_at(at, [this, at, outgoing, protocol, is_reply, rate,
+                              bytes = std::move(bytes), settlements = std::move(settlements)] {
     std::erase(outgoing_, outgoing);
     if (!outgoing->cancelled && !bytes.empty()) {
+      link_.set_line_rate(rate);
       // The modelled time, not now(): when it had passed before the event could run (bytes read
       // late off a busy machine), the link sees by how much.
       if (link_.deliver(bytes, at)) {

@@ -20,6 +20,12 @@ class ByteLink {
   /// already passed (the instruction was read late). Returns false when the link dropped them
   /// instead (the client is not reading: docs/bus.md "Statistics").
   virtual bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) = 0;
+
+  /// The line rate, in bit/s with 8N1 framing, of the bytes the following deliver() calls carry,
+  /// so that a link can tell when each byte arrived (`at` minus the wire time of the bytes after
+  /// it); 0 when they take no wire time (ReplyTiming::Immediate). The bus sets it before every
+  /// deliver(). Links that only care about whole deliveries ignore it.
+  virtual void set_line_rate(std::uint32_t /*bps*/) {}
 };
 
 }  // namespace dxlemu::bus

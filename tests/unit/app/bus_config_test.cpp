@@ -167,3 +167,43 @@ TEST_CASE("An unreadable config file is refused naming it", "[app][config]") {
     CHECK(std::string(e.what()) == "/nonexistent/bus.json: /: cannot be read");
   }
 }
+
+TEST_CASE("A port may set its USB adapter's latency timer and chip", "[app][config]") {
+  const app::BusConfig config = parse(R"({"ports": [
+      {"name": "a", "adapter_latency_ms": 16, "adapter_chip": "ft232r", "servos": []},
+      {"name": "b", "adapter_latency_ms": 0, "servos": []},
+      {"name": "c", "servos": []}]})");
+  REQUIRE(config.ports.size() == 3);
+  CHECK(config.ports[0].adapter_latency_ms == 16);
+  CHECK(config.ports[0].adapter_chip == "ft232r");
+  CHECK(config.ports[1].adapter_latency_ms == 0);  // none here, whatever the command line says
+  CHECK_FALSE(config.ports[1].adapter_chip);
+  CHECK_FALSE(config.ports[2].adapter_latency_ms);  // the command line's
+  CHECK(app::adapter_packet_data("ft232h") == 510);
+  CHECK(app::adapter_packet_data("ft232r") == 62);
+  CHECK_FALSE(app::adapter_packet_data("ch340"));
+}
+
+TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON pointer",
+          "[app][config]") {
+  using Case = std::pair<std::string, std::string>;
+  const std::vector<Case> cases = {
+      {R"({"ports": [{"name": "a", "adapter_latency_ms": 256, "servos": []}]})",
+       "bus.json: /ports/0/adapter_latency_ms: 256 is outside 0 ~ 255"},
+      {R"({"ports": [{"name": "a", "adapter_latency_ms": -1, "servos": []}]})",
+       "bus.json: /ports/0/adapter_latency_ms: -1 is outside 0 ~ 255"},
+      {R"({"ports": [{"name": "a", "adapter_latency_ms": 1.5, "servos": []}]})",
+       "bus.json: /ports/0/adapter_latency_ms: must be an integer"},
+      {R"({"ports": [{"name": "a", "adapter_chip": "ch340", "servos": []}]})",
+       "bus.json: /ports/0/adapter_chip: unknown chip \"ch340\" (known: ft232h, ft232r)"},
+      {R"({"ports": [{"name": "a", "adapter_chip": 232, "servos": []}]})",
+       "bus.json: /ports/0/adapter_chip: must be a non-empty string"},
+      {R"({"ports": [{"name": "a", "adapter": 16, "servos": []}]})",
+       "bus.json: /ports/0/adapter: unknown field (allowed: name, link, servos, "
+       "adapter_latency_ms, adapter_chip, description)"},
+  };
+  for (const auto& [text, message] : cases) {
+    INFO(text);
+    CHECK(refusal(text) == message);
+  }
+}
