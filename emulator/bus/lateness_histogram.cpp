@@ -11,7 +11,7 @@ int LatenessHistogram::bucket_of(std::int64_t ns) {
     return 0;
   }
   const auto u = static_cast<std::uint64_t>(ns);
-  const int octave = std::bit_width(u) - 1 - kLinearBits;  // 0 for [1024, 2048) ns
+  const int octave = static_cast<int>(std::bit_width(u)) - 1 - kLinearBits;  // 0: [1024, 2048) ns
   if (octave >= kOctaves) {
     return kBuckets - 1;
   }
