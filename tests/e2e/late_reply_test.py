@@ -94,20 +94,29 @@ class LateReplyTest(unittest.TestCase):
                         self.assertEqual(stats["lateness"]["drop_after_ms"], 900.0)
 
 
+def run_prioritised(restrictions):
+    """Runs the daemon with --realtime-priority 10 under `restrictions` (a command prefix, e.g.
+    setpriv dropping capabilities), pings it, and returns (its stderr, `chrt -p` of it)."""
+    wrapper = os.environ.get("DXLEMU_WRAPPER", "")
+    os.environ["DXLEMU_WRAPPER"] = restrictions + " " + wrapper
+    try:
+        with Emulator(args=["--realtime-priority", "10"], log_level="info") as emulator:
+            with emulator.client() as client:
+                if client.ping(1).error != 0:
+                    raise AssertionError("servo 1 answered with an error")
+            policy = subprocess.run(["chrt", "-p", str(emulator.process.proc.pid)],
+                                    capture_output=True, text=True, check=False).stdout
+            return emulator.stderr, policy
+    finally:
+        os.environ["DXLEMU_WRAPPER"] = wrapper
+
+
 class RealtimePriorityTest(unittest.TestCase):
     def test_refused_scheduling_is_explained_and_the_daemon_runs_on(self):
         # Without any capability (setpriv drops them all, root's too) SCHED_FIFO and mlockall
         # beyond the memlock limit are refused.
-        wrapper = os.environ.get("DXLEMU_WRAPPER", "")
-        os.environ["DXLEMU_WRAPPER"] = (
-            "setpriv --inh-caps=-all --bounding-set=-all prlimit --rtprio=0 --memlock=0 " + wrapper)
-        try:
-            with Emulator(args=["--realtime-priority", "10"], log_level="info") as emulator:
-                with emulator.client() as client:
-                    self.assertEqual(client.ping(1).error, 0)
-                stderr = emulator.stderr
-        finally:
-            os.environ["DXLEMU_WRAPPER"] = wrapper
+        stderr, _ = run_prioritised(
+            "setpriv --inh-caps=-all --bounding-set=-all prlimit --rtprio=0 --memlock=0")
         self.assertIn("SCHED_FIFO at priority 10 refused (Operation not permitted; permit it "
                       "with CAP_SYS_NICE", stderr)
         self.assertIn("memory lock refused", stderr)
@@ -117,18 +126,8 @@ class RealtimePriorityTest(unittest.TestCase):
         # Memory is kept unlocked (CAP_IPC_LOCK dropped, no memlock allowance): a sanitizer
         # build's daemon maps terabytes of shadow memory that mlockall would try to fault in.
         # Whether SCHED_FIFO is granted depends on the machine; either way the log says so.
-        wrapper = os.environ.get("DXLEMU_WRAPPER", "")
-        os.environ["DXLEMU_WRAPPER"] = (
-            "setpriv --inh-caps=-ipc_lock --bounding-set=-ipc_lock prlimit --memlock=0 " + wrapper)
-        try:
-            with Emulator(args=["--realtime-priority", "10"], log_level="info") as emulator:
-                with emulator.client() as client:
-                    self.assertEqual(client.ping(1).error, 0)
-                stderr = emulator.stderr
-                policy = subprocess.run(["chrt", "-p", str(emulator.process.proc.pid)],
-                                        capture_output=True, text=True, check=False).stdout
-        finally:
-            os.environ["DXLEMU_WRAPPER"] = wrapper
+        stderr, policy = run_prioritised(
+            "setpriv --inh-caps=-ipc_lock --bounding-set=-ipc_lock prlimit --memlock=0")
         line = stderr.split("--realtime-priority: ")[1].split("\n")[0]
         self.assertIn("memory lock refused", line)
         if line.startswith("SCHED_FIFO at priority 10,"):
