@@ -2,7 +2,6 @@
 
 #include <map>
 #include <stdexcept>
-#include <string_view>
 
 #include "dxlemu/version.hpp"
 
@@ -210,19 +209,6 @@ ModelFilter model_filter(const ModelsArguments& models) {
   }
   filter.name_fragment = models.name;
   return filter;
-}
-
-int exec_split(int argc, const char* const* argv, std::vector<std::string>& command) {
-  if (argc < 2 || std::string_view(argv[1]) != "exec") {
-    return argc;
-  }
-  for (int i = 2; i < argc; ++i) {
-    if (std::string_view(argv[i]) == "--") {
-      command.assign(argv + i + 1, argv + argc);
-      return i;
-    }
-  }
-  return argc;
 }
 
 std::vector<std::string> exec_command(const CLI::App& exec, std::vector<std::string> after_dashes) {

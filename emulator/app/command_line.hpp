@@ -71,13 +71,9 @@ TimingMode timing_mode(const std::string& name);
 /// one throws std::invalid_argument naming the known ones), the protocol, the name fragment.
 ModelFilter model_filter(const ModelsArguments& models);
 
-/// For `dxlemu exec ... -- COMMAND...` (CLI11 would hand what follows -- to the top-level
-/// command): stores COMMAND in `command` and returns the number of arguments to parse, those
-/// before --. Any other command line is returned whole (`argc`).
-int exec_split(int argc, const char* const* argv, std::vector<std::string>& command);
-
 /// COMMAND of a parsed `dxlemu exec`: its remaining arguments (a COMMAND given without --), then
-/// `after_dashes` (exec_split's). Throws std::invalid_argument when there is none.
+/// `after_dashes` (exec_split's, app/exec_setup.hpp). Throws std::invalid_argument when there is
+/// none.
 std::vector<std::string> exec_command(const CLI::App& exec, std::vector<std::string> after_dashes);
 
 /// Defines dxlemu's options and subcommands on `app`, each parsed into `line` (which must

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string_view>
 
 namespace dxlemu::app {
 namespace {
@@ -128,6 +129,19 @@ std::string append_to_list(const char* existing, const std::vector<std::string>&
     out += (out.empty() ? "" : ":") + item;
   }
   return out;
+}
+
+int exec_split(int argc, const char* const* argv, std::vector<std::string>& command) {
+  if (argc < 2 || std::string_view(argv[1]) != "exec") {
+    return argc;
+  }
+  for (int i = 2; i < argc; ++i) {
+    if (std::string_view(argv[i]) == "--") {
+      command.assign(argv + i + 1, argv + argc);
+      return i;
+    }
+  }
+  return argc;
 }
 
 }  // namespace dxlemu::app

@@ -51,4 +51,9 @@ std::filesystem::path preload_library(
 /// element once: LD_PRELOAD and DXLEMU_PTYS of the command.
 std::string append_to_list(const char* existing, const std::vector<std::string>& added);
 
+/// For `dxlemu exec ... -- COMMAND...` (CLI11 would hand what follows -- to the top-level
+/// command): stores COMMAND in `command` and returns the number of arguments to parse, those
+/// before --. Any other command line is returned whole (`argc`).
+int exec_split(int argc, const char* const* argv, std::vector<std::string>& command);
+
 }  // namespace dxlemu::app

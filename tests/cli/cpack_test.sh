@@ -35,8 +35,12 @@ for path in ./usr/bin/dxlemu ./usr/share/dxlemu/models/catalog.json \
   ./usr/share/doc/dxlemu/README.md; do
   grep -qE " $path\$" <<<"$contents" || fail "$path not in the package:"$'\n'"$contents"
 done
-# The executable is the only file in usr/bin; nothing else (tests, fuzzers, libraries) ships.
-others=$(grep -E '^-' <<<"$contents" | grep -vE ' ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)')
+# The preload library of `dxlemu exec`, in CMAKE_INSTALL_LIBDIR's dxlemu/ (lib or lib/<multiarch>).
+preload='./usr/lib(/[^/]+)?/dxlemu/libdxlemu-preload\.so'
+grep -qE " $preload\$" <<<"$contents" || fail "libdxlemu-preload.so not in the package:"$'\n'"$contents"
+# The executable is the only file in usr/bin; nothing else (tests, fuzzers, other libraries) ships.
+others=$(grep -E '^-' <<<"$contents" |
+  grep -vE " ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)| $preload\$")
 [ -z "$others" ] || fail "unexpected files in the package:"$'\n'"$others"
 
-echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu and the model library"
+echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the preload library and the model library"
