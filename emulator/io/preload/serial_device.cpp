@@ -25,7 +25,7 @@ int set_serial(SerialDevice& device, const serial_struct& wanted, bool privilege
        wanted.close_delay != serial.close_delay || wanted.closing_wait != serial.closing_wait)) {
     return EPERM;
   }
-  serial.flags = wanted.flags & ASYNC_FLAGS;
+  serial.flags = wanted.flags & static_cast<int>(ASYNC_FLAGS);
   serial.custom_divisor = wanted.custom_divisor;
   serial.close_delay = wanted.close_delay;
   serial.closing_wait = wanted.closing_wait;
@@ -35,8 +35,7 @@ int set_serial(SerialDevice& device, const serial_struct& wanted, bool privilege
 }  // namespace
 
 SerialDevice initial_serial_device() {
-  SerialDevice device;
-  std::memset(&device, 0, sizeof(device));
+  SerialDevice device{};
   // type PORT_UNKNOWN, line 0 (ttyUSB0), no FIFO size: what usb-serial leaves unset.
   device.serial.baud_base = kFtdiHighSpeedBaudBase;
   device.serial.close_delay = kCloseDelay;
@@ -71,7 +70,7 @@ int emulate_serial_ioctl(SerialDevice& device, unsigned long request, void* arg,
       std::memcpy(arg, &device.serial, sizeof(device.serial));
       return 0;
     case TIOCSSERIAL: {
-      serial_struct wanted;
+      serial_struct wanted{};
       std::memcpy(&wanted, arg, sizeof(wanted));
       return set_serial(device, wanted, privileged);
     }
