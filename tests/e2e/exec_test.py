@@ -136,7 +136,7 @@ class ExecTest(unittest.TestCase):
         started = os.path.join(self.dir.name, "started")
         proc = subprocess.Popen(
             dxlemu_command("exec", "--port", self.link, "--", "sh", "-c",
-                           f"touch {started}; sleep 60"), stderr=subprocess.PIPE)
+                           f"touch {started}; exec sleep 60"), stderr=subprocess.PIPE)
         deadline = time.monotonic() + 10 * timeout_scale()
         while not os.path.exists(started) and time.monotonic() < deadline:
             time.sleep(0.01)
