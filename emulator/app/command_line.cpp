@@ -194,6 +194,33 @@ CLI::App* add_ctl(CLI::App& app, CommandLine& line) {
   return ctl;
 }
 
+CLI::App* add_exec(CLI::App& app, CommandLine& line) {
+  ExecArguments& arguments = line.exec;
+  auto* exec = app.add_subcommand(
+      "exec",
+      "Run a client with the preload library that makes dxlemu's PTYs behave like a USB "
+      "adapter (tcflush keeps written bytes; TIOCGSERIAL, modem lines, RS-485 work)");
+  // One value per occurrence: a vector option would otherwise swallow COMMAND too.
+  exec->add_option("--port", arguments.ports, "A dxlemu PTY or its link to protect (repeatable)")
+      ->type_name("PATH")
+      ->allow_extra_args(false);
+  exec->add_option("--control", arguments.controls,
+                   "Protect every port of the daemon at this control socket (repeatable)")
+      ->type_name("SOCKET")
+      ->allow_extra_args(false);
+  // COMMAND is what follows -- (exec_split), or without --, everything from the first argument
+  // that is not one of these options, its own options included (exec_command).
+  exec->prefix_command();
+  exec->footer(
+      "Usage: dxlemu exec [--port PATH]... [--control SOCKET]... -- COMMAND [ARG]...\n"
+      "With neither option, the ports of every running dxlemu whose control socket is in "
+      "$XDG_RUNTIME_DIR or /tmp (dxlemu-*.sock). COMMAND runs with LD_PRELOAD and "
+      "DXLEMU_PTYS set (docs/exec.md). Exit status: COMMAND's, 128+N if signal N killed it; "
+      "125 when dxlemu exec fails (no PTY found, no preload library), 126 COMMAND cannot be "
+      "run, 127 COMMAND not found.");
+  return exec;
+}
+
 }  // namespace
 
 TimingMode timing_mode(const std::string& name) {
@@ -215,6 +242,15 @@ ModelFilter model_filter(const ModelsArguments& models) {
   return filter;
 }
 
+std::vector<std::string> exec_command(const CLI::App& exec, std::vector<std::string> after_dashes) {
+  std::vector<std::string> command = exec.remaining();
+  command.insert(command.end(), after_dashes.begin(), after_dashes.end());
+  if (command.empty()) {
+    throw std::invalid_argument("no COMMAND to run (dxlemu exec [OPTIONS] -- COMMAND [ARG]...)");
+  }
+  return command;
+}
+
 Subcommands define_command_line(CLI::App& app, CommandLine& line) {
   app.set_version_flag("--version", std::string("dxlemu ") + kVersion);
   app.require_subcommand(0, 1);
@@ -226,6 +262,7 @@ Subcommands define_command_line(CLI::App& app, CommandLine& line) {
   add_bus_options(*subcommands.run, line);
   add_daemon_options(*subcommands.run, line);
   subcommands.ctl = add_ctl(app, line);
+  subcommands.exec = add_exec(app, line);
   return subcommands;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/emulator.hpp"
+#include "app/exec_setup.hpp"
 #include "app/model_library.hpp"
 
 namespace dxlemu::app {
@@ -48,6 +49,7 @@ struct CommandLine {
   std::string log_level;                    ///< --log-level
   CtlArguments ctl;
   ModelsArguments models;
+  ExecArguments exec;
 };
 
 /// The subcommands, to ask which one was given.
@@ -56,6 +58,7 @@ struct Subcommands {
   CLI::App* check = nullptr;
   CLI::App* run = nullptr;
   CLI::App* ctl = nullptr;
+  CLI::App* exec = nullptr;
 };
 
 /// The servos `dxlemu run` serves without --servo or --config (README): three XM430-W350 at
@@ -68,6 +71,11 @@ TimingMode timing_mode(const std::string& name);
 /// The filter `models` asks for: the family named (already checked by the parser; an unknown
 /// one throws std::invalid_argument naming the known ones), the protocol, the name fragment.
 ModelFilter model_filter(const ModelsArguments& models);
+
+/// COMMAND of a parsed `dxlemu exec`: its remaining arguments (a COMMAND given without --), then
+/// `after_dashes` (exec_split's, app/exec_setup.hpp). Throws std::invalid_argument when there is
+/// none.
+std::vector<std::string> exec_command(const CLI::App& exec, std::vector<std::string> after_dashes);
 
 /// Defines dxlemu's options and subcommands on `app`, each parsed into `line` (which must
 /// outlive `app`); sets `line`'s defaults. The order here is the order of --help.

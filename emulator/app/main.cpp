@@ -1,18 +1,24 @@
 // dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves buses of virtual servos on
 // pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config;
-// `dxlemu ctl` sends one request to a running emulator's control API.
+// `dxlemu ctl` sends one request to a running emulator's control API; `dxlemu exec` runs a client
+// with the preload library that makes the emulator's PTYs behave like a USB adapter.
+#include <sys/stat.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 
 #include "app/bus_config.hpp"
 #include "app/command_line.hpp"
 #include "app/ctl_request.hpp"
 #include "app/emulator.hpp"
+#include "app/exec_setup.hpp"
 #include "app/log.hpp"
 #include "app/model_library.hpp"
+#include "io/child_process.hpp"
 #include "io/control_client.hpp"
 #include "model/model_error.hpp"
 
@@ -107,6 +113,58 @@ int run_ctl(const dxlemu::app::CtlArguments& ctl) {
   } catch (const std::exception& e) {
     std::cerr << "dxlemu ctl: " << e.what() << "\n";
     return 1;
+  }
+}
+
+// `dxlemu exec`'s own failures (docs/exec.md), apart from COMMAND's statuses as env(1) does.
+constexpr int kExitExecFailed = 125;
+// How long `dxlemu exec` waits for a daemon's port list.
+constexpr std::chrono::seconds kExecListTimeout{5};
+
+// The `list` result of the daemon at `socket`; throws naming the socket when it refuses.
+nlohmann::json list_ports(const std::filesystem::path& socket) {
+  dxlemu::io::ControlClient client(socket);
+  const auto reply = nlohmann::json::parse(
+      client.call(R"({"id": 1, "cmd": "list"})", kExecListTimeout), nullptr, false);
+  if (!reply.is_object() || !reply.value("ok", false)) {
+    throw std::runtime_error("the daemon at " + socket.string() + " did not list its ports: " +
+                             (reply.is_object() ? reply.value("error", reply.dump()) : "no reply"));
+  }
+  return reply["result"];
+}
+
+bool is_character_device(const std::filesystem::path& path) {
+  struct stat status {};
+  return ::stat(path.c_str(), &status) == 0 && S_ISCHR(status.st_mode);
+}
+
+// dxlemu exec: COMMAND with LD_PRELOAD and DXLEMU_PTYS set; its exit status (docs/exec.md).
+int run_exec(const dxlemu::app::ExecArguments& arguments) {
+  std::map<std::string, std::string> environment;
+  try {
+    std::error_code error;
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe", error);
+    const auto library = dxlemu::app::preload_library(
+        std::getenv("DXLEMU_PRELOAD"), exe.parent_path(), DXLEMU_BINDIR_TO_PRELOADDIR,
+        [](const std::filesystem::path& path) {
+          std::error_code ignored;
+          return std::filesystem::is_regular_file(path, ignored);
+        });
+    const auto dir = dxlemu::app::default_control_path().parent_path();
+    const auto paths = dxlemu::app::exec_pty_paths(arguments, dir, dxlemu::io::live_control_sockets,
+                                                   list_ports, is_character_device);
+    environment["LD_PRELOAD"] =
+        dxlemu::app::append_to_list(std::getenv("LD_PRELOAD"), {library.string()});
+    environment["DXLEMU_PTYS"] = dxlemu::app::append_to_list(std::getenv("DXLEMU_PTYS"), paths);
+  } catch (const std::exception& e) {
+    std::cerr << "dxlemu exec: " << e.what() << "\n";
+    return kExitExecFailed;
+  }
+  try {
+    return dxlemu::io::run_child(arguments.command, environment);
+  } catch (const std::exception& e) {
+    std::cerr << "dxlemu exec: " << e.what() << "\n";
+    return kExitExecFailed;
   }
 }
 
@@ -247,8 +305,10 @@ int main(int argc, char** argv) {
   CLI::App app{"dxlemu: emulates chains of ROBOTIS DYNAMIXEL servos on pseudo-terminals"};
   dxlemu::app::CommandLine line;
   const dxlemu::app::Subcommands given = dxlemu::app::define_command_line(app, line);
+  std::vector<std::string> after_dashes;
+  const int parsed_argc = dxlemu::app::exec_split(argc, argv, after_dashes);
   try {
-    app.parse(argc, argv);
+    app.parse(parsed_argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help and --version exit 0; a bad command line is refused input like a bad config.
     return app.exit(e) == 0 ? 0 : kExitBadInput;
@@ -258,6 +318,15 @@ int main(int argc, char** argv) {
   }
   if (given.ctl->parsed()) {
     return run_ctl(line.ctl);
+  }
+  if (given.exec->parsed()) {
+    try {
+      line.exec.command = dxlemu::app::exec_command(*given.exec, after_dashes);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "dxlemu exec: " << e.what() << "\n";
+      return kExitExecFailed;
+    }
+    return run_exec(line.exec);
   }
   if (given.check->parsed()) {
     return run_command([&] { check_config(line.check_file, line.model_dirs); });

@@ -47,9 +47,13 @@ installed=$(dpkg-deb --fsys-tarfile "$deb" | tar -xO "$site/dxlemu/_installed.py
   fail "cannot read $site/dxlemu/_installed.py"
 grep -qx "BINARY = '../../../../bin/dxlemu'" <<<"$installed" ||
   fail "$site/dxlemu/_installed.py does not lead to /usr/bin/dxlemu:"$'\n'"$installed"
-# The executable is the only file in usr/bin; nothing else (tests, fuzzers, libraries) ships.
-others=$(grep -E '^-' <<<"$contents" | grep -vE ' ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)' |
+# The preload library of `dxlemu exec`, in CMAKE_INSTALL_LIBDIR's dxlemu/ (lib or lib/<multiarch>).
+preload='./usr/lib(/[^/]+)?/dxlemu/libdxlemu-preload\.so'
+grep -qE " $preload\$" <<<"$contents" || fail "libdxlemu-preload.so not in the package:"$'\n'"$contents"
+# The executable is the only file in usr/bin; nothing else (tests, fuzzers, other libraries) ships.
+others=$(grep -E '^-' <<<"$contents" |
+  grep -vE " ./usr/(bin/dxlemu|share/dxlemu/models/|share/doc/dxlemu/)| $preload\$" |
   grep -vE " $site/dxlemu(/[a-z_]+\.py|-$version\.dist-info/[A-Za-z_.]+)\$")
 [ -z "$others" ] || fail "unexpected files in the package:"$'\n'"$others"
 
-echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the model library and the Python package"
+echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the preload library, the model library and the Python package"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `cmake --install` into a temporary prefix, then checks that the installed dxlemu finds the
-# installed model library relative to itself, in preference to the source tree's models/.
+# installed model library relative to itself, in preference to the source tree's models/, and
+# that its `dxlemu exec` finds the installed preload library the same way.
 # Usage: install_test.sh CMAKE BUILD_DIR SOURCE_MODELS_DIR VERSION
 set -uo pipefail
 cmake=${1:?cmake}
@@ -26,8 +27,8 @@ prefix=$tmp/prefix
 "$cmake" --install "$build" --prefix "$prefix" >"$tmp/install.log" 2>&1 ||
   fail "cmake --install: $(cat "$tmp/install.log")"
 
-# What is installed: the binary, the model library, the docs, the Python package; no test, fuzz or
-# bench target.
+# What is installed: the binary, the preload library, the model library, the docs, the Python
+# package; no test, fuzz or bench target.
 models=$prefix/share/dxlemu/models
 [ -x "$prefix/bin/dxlemu" ] || fail "no bin/dxlemu"
 [ -f "$models/catalog.json" ] || fail "no share/dxlemu/models/catalog.json"
@@ -48,6 +49,21 @@ site=$prefix/lib/python3/dist-packages
 for module in __init__.py daemon.py pytest_plugin.py _installed.py; do
   [ -f "$site/dxlemu/$module" ] || fail "no lib/python3/dist-packages/dxlemu/$module"
 done
+
+# The library directory is CMAKE_INSTALL_LIBDIR's (lib, lib64 or lib/<multiarch>), then dxlemu/.
+mapfile -t preloads < <(cd "$prefix" && find . -name 'libdxlemu-preload.so*' | sort)
+[[ "${preloads[*]}" =~ ^\./lib[^/\ ]*(/[^/\ ]+)?/dxlemu/libdxlemu-preload\.so$ ]] ||
+  fail "preload libraries installed: ${preloads[*]:-none}"
+preload=${preloads[0]#./}
+
+# exec_preload PROGRAM: sets out to the LD_PRELOAD `PROGRAM exec` gives a command (/dev/null is a
+# character device, so --port accepts it).
+exec_preload() {
+  out=$(env -u DXLEMU_PRELOAD -u LD_PRELOAD "$1" exec --port /dev/null -- sh -c 'echo "$LD_PRELOAD"' 2>&1) ||
+    fail "$1 exec exited $?:"$'\n'"$out"
+}
+exec_preload "$prefix/bin/dxlemu"
+[ "$out" = "$prefix/$preload" ] || fail "installed dxlemu exec preloads \"$out\", not $prefix/$preload"
 
 # The whole library is listed without DXLEMU_MODELS_DIR.
 models_listing "$prefix/bin/dxlemu"
@@ -81,7 +97,17 @@ for program in "$prefix/bin/dxlemu" "$tmp/links/dxlemu"; do
   models_listing "$program"
   lists "$out" xm430-w350 && ! lists "$out" ax-12a ||
     fail "$program (moved prefix) did not use the installed catalog:"$'\n'"$out"
+  exec_preload "$program"
+  [ "$out" = "$prefix/$preload" ] || fail "$program (moved prefix) exec preloads \"$out\""
 done
+
+# Without the library, exec says where it looked and runs nothing.
+mv "$prefix/$preload" "$tmp/preload.so"
+out=$(env -u DXLEMU_PRELOAD "$prefix/bin/dxlemu" exec --port /dev/null -- true 2>&1)
+status=$?
+[ "$status" -eq 125 ] && grep -q "libdxlemu-preload.so was not found (looked at .*$prefix/$preload)" <<<"$out" ||
+  fail "exec without its library exited $status:"$'\n'"$out"
+mv "$tmp/preload.so" "$prefix/$preload"
 
 # $DXLEMU_MODELS_DIR still overrides the installed copy.
 out=$(DXLEMU_MODELS_DIR=$source_models "$prefix/bin/dxlemu" models 2>&1) || fail "$out"
@@ -92,4 +118,4 @@ rm "$prefix/share/dxlemu/models/catalog.json"
 models_listing "$prefix/bin/dxlemu"
 lists "$out" ax-12a || fail "no fallback to $source_models:"$'\n'"$out"
 
-echo "ok: installed dxlemu uses share/dxlemu/models beside its bin/, after \$DXLEMU_MODELS_DIR, before the source tree"
+echo "ok: installed dxlemu uses share/dxlemu/models beside its bin/, after \$DXLEMU_MODELS_DIR, before the source tree; its exec preloads $preload"
