@@ -147,6 +147,14 @@ void Bus::schedule_expiry() {
     std::vector<wire::FramerEvent> events;
     v1_framer_.expire(scheduler_.now(), events);
     v2_framer_.expire(scheduler_.now(), events);
+    // A packet found only when the partial one before it timed out is acted on now: its reply
+    // is modelled from the expiry, not from when its bytes came (which would make it late by
+    // the whole timeout).
+    for (wire::FramerEvent& event : events) {
+      if (auto* frame = std::get_if<wire::Frame>(&event)) {
+        frame->last_byte_at = std::max(frame->last_byte_at, scheduler_.now());
+      }
+    }
     handle(events);
     schedule_expiry();
   });

@@ -448,3 +448,19 @@ TEST_CASE("The line observer sees every packet heard and every delivery, but not
   CHECK(seen[3] == "heard failure");
   CHECK(seen[4].rfind("sent id=1 error=0x03", 0) == 0);  // CRC Error
 }
+
+TEST_CASE("A packet found when the partial one before it timed out is answered from the expiry",
+          "[bus]") {
+  BusRig rig;
+  rig.add("ax-12a", 1);
+  // A 1.0 header that announces 32 bytes swallows the Ping behind it until the inter-byte
+  // timeout drops it; the framer then finds the Ping in the bytes it held.
+  const Bytes bytes{0xFF, 0xFF, 0x05, 0x20, 0xFF, 0xFF, 0x01, 0x02, 0x01, 0xFB};
+  rig.bus.receive(bytes, rig.scheduler.now(), 1'000'000);
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  const auto& reply = rig.link.deliveries()[0];
+  CHECK(reply.bytes == Bytes{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
+  // Modelled from the expiry (100 ms for Protocol 1.0), so not "late" by the whole timeout.
+  CHECK(reply.at >= sim::SimTime{} + 100ms);
+}
