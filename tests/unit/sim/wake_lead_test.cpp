@@ -33,8 +33,7 @@ TEST_CASE("The wake lead is the asked quantile of the recent wake-ups", "[sim]")
   CHECK(p90.lead() == microseconds(58));     // rank round(0.9 * 63) = 57
 }
 
-TEST_CASE("The wake lead follows a machine whose wake-ups get later, up to its maximum",
-          "[sim]") {
+TEST_CASE("The wake lead follows a machine whose wake-ups get later, up to its maximum", "[sim]") {
   WakeLead lead(0.5, microseconds(200));
   for (std::size_t i = 0; i < WakeLead::kWindow; ++i) {
     lead.add(microseconds(30));
