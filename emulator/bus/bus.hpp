@@ -185,7 +185,10 @@ class Bus {
   wire::Framer v1_framer_{wire::Protocol::V1};
   wire::Framer v2_framer_{wire::Protocol::V2};
   std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
-  std::optional<sim::Scheduler::EventId> expiry_;    // the framers' inter-byte timeout
+  /// The modelled time of the last delivery: a later one is never stamped before it, even when
+  /// its own modelled time had passed before it could be scheduled.
+  sim::SimTime last_sent_{};
+  std::optional<sim::Scheduler::EventId> expiry_;  // the framers' inter-byte timeout
   /// The client's serial rate as of its last write: the rate of the bytes being framed.
   std::uint32_t client_bps_ = 0;
   BusStats stats_;

@@ -97,14 +97,16 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::uint32_t bps
     if (!outgoing->cancelled && !bytes.empty()) {
       link_.set_line_rate(rate);
       // The modelled time, not now(): when it had passed before the event could run (bytes read
-      // late off a busy machine), the link sees by how much.
-      if (link_.deliver(bytes, at)) {
+      // late off a busy machine), the link sees by how much. Never before the previous
+      // delivery's: the line carries them in order.
+      last_sent_ = std::max(at, last_sent_);
+      if (link_.deliver(bytes, last_sent_)) {
         stats_.replies += is_reply ? 1 : 0;
       } else {
         ++stats_.unread_drops;
       }
       if (observer_.sent) {
-        observer_.sent(bytes, scheduler_.now(), protocol);
+        observer_.sent(bytes, last_sent_, protocol);
       }
     }
     // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
