@@ -64,18 +64,22 @@ class ExecTest(unittest.TestCase):
         self.assertTrue(out["ping_answered"])
         return self.frames() - before - 1
 
-    def test_an_output_flush_before_each_packet_loses_packets_on_a_bare_pty_and_none_under_exec(self):
-        heard = []
-        for _ in range(FLOOD_ATTEMPTS):
-            heard.append(self.flood_heard())
-            if heard[-1] < FLOOD:
-                break
-        self.assertLess(heard[-1], FLOOD, f"no packet lost without exec in {heard}: the "
-                        "problem exec solves did not show on this machine")
+    def test_an_output_flush_before_each_packet_loses_nothing_under_exec(self):
         exec_prefix = dxlemu_command("exec", "--port", self.link, "--")
         for mode in ("tcflush", "ioctl"):
             with self.subTest(mode=mode):
                 self.assertEqual(self.flood_heard(*exec_prefix, mode=mode), FLOOD)
+
+    def test_an_output_flush_before_each_packet_loses_packets_on_a_bare_pty(self):
+        # The loss is a race with the kernel's PTY worker: usual on this project's machines (a
+        # few of 201 arrive), but a slow daemon (a sanitizer build) can win it every time. Then
+        # the problem did not show, which says nothing about exec: skipped, not passed.
+        heard = []
+        for _ in range(FLOOD_ATTEMPTS):
+            heard.append(self.flood_heard())
+            if heard[-1] < FLOOD:
+                return
+        self.skipTest(f"no packet lost without exec in {heard}: the race did not show here")
 
     def test_the_sdk_open_with_low_latency_modem_lines_and_rs485_work_under_exec_only(self):
         bare = self.result(*run(client("serial", self.link)))
