@@ -78,6 +78,8 @@ class MotionModel {
   const MotorParams& params() const { return motion_.motor.params(); }
   /// The tick period.
   sim::SimDuration tick() const { return tick_; }
+  /// Nothing moves until an input does: advance_to() skips the ticks due (a servo at rest).
+  bool resting() const { return activity_ == Activity::Resting; }
 
  private:
   void install_hooks();

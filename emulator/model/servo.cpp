@@ -8,6 +8,19 @@
 namespace dxlemu::model {
 namespace {
 
+// Instructions that change nothing the motion model reads: a servo at rest stays at rest and its
+// ticks stay skipped, where waking it would cost every servo a tick per instruction a polling
+// client sends (a broadcast Ping or a Sync Read reaches them all). Everything else wakes it.
+bool only_reads(const wire::Instruction& instruction) {
+  return std::visit(
+      [](const auto& ins) {
+        using T = std::decay_t<decltype(ins)>;
+        return std::is_same_v<T, wire::Ping> || std::is_same_v<T, wire::Read> ||
+               std::is_base_of_v<wire::SyncRead, T> || std::is_base_of_v<wire::BulkRead, T>;
+      },
+      instruction);
+}
+
 using std::chrono::microseconds;
 
 // Status Return Level (includes/control_table_status_return_lv.md): 0 answers Ping only,
@@ -153,7 +166,9 @@ ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration proc
 }
 
 ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing addressing) {
-  motion_.wake();
+  if (!only_reads(packet.instruction)) {
+    motion_.wake();
+  }
   const Timing& timing = spec().timing;
   const bool broadcast = addressing == Addressing::Broadcast;
   if (addressing == Addressing::Secondary) {

@@ -807,3 +807,31 @@ TEST_CASE("AX compliance: a load deflects the held shaft by margin plus slope sh
   rig.wait(200);
   CHECK(rig.get("present_position") == 512);
 }
+
+TEST_CASE("Instructions that only read leave a servo at rest; a write wakes it",
+          "[model][motion]") {
+  Rig rig("xm430-w350");
+  rig.wait(50);  // the first ticks settle the power-on state
+  REQUIRE(rig.servo.motion().resting());
+  const std::uint8_t id = rig.servo.id();
+  const std::vector<wire::Instruction> reads = {
+      wire::Ping{},
+      wire::Read{132, 4},
+      wire::SyncRead{132, 4, {id}},
+      wire::FastSyncRead{{132, 4, {id}}},
+      wire::BulkRead{{{id, 132, 4}}},
+      wire::FastBulkRead{{{{id, 132, 4}}}},
+  };
+  for (const wire::Instruction& instruction : reads) {
+    rig.servo.execute({Protocol::V2, id, instruction}, model::Addressing::Unicast);
+    CHECK(rig.servo.motion().resting());
+    rig.wait(5);
+  }
+  // A Write of a value equal to the present one still wakes it: whether a write changes what
+  // the motion model reads is for its tick to find out.
+  CHECK(rig.write("profile_velocity", rig.get("profile_velocity")) == kOk);
+  CHECK_FALSE(rig.servo.motion().resting());
+  rig.wait(5);
+  CHECK(rig.servo.motion().resting());
+  CHECK(rig.get("present_position") == 2048);
+}
