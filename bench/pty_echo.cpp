@@ -12,18 +12,31 @@
 // nothing, keeps no time and waits in a blocking read(2): the least a process can do per round
 // trip. It runs until SIGTERM, whose default action ends it (there is nothing to clean up).
 //
-// Usage: pty_echo
+// With --reply-after-us N it is the bare *timed* responder instead: each status is written N µs
+// after the read() that completed its instruction returned, waited for with one absolute
+// clock_nanosleep (and the timer slack set to 1 ns, as dxlemu sets it). That is the least a
+// process that answers at a modelled time can do: one sleep for the instruction, one for the
+// reply. reply_latency --echo measures dxlemu's CPU per reply against it.
+//
+// Usage: pty_echo [--reply-after-us N]
 #include <fcntl.h>
 #include <stdlib.h>  // NOLINT(modernize-deprecated-headers): posix_openpt and friends are POSIX
+#include <sys/prctl.h>
 #include <termios.h>
+#include <time.h>  // NOLINT(modernize-deprecated-headers): clock_nanosleep is POSIX
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "support/read_position.hpp"
@@ -62,6 +75,34 @@ int open_slave(const std::string& path) {
   return fd;
 }
 
+// Sleeps until `delay` after `from` on CLOCK_MONOTONIC (steady_clock's clock), through signals.
+void sleep_until(timespec from, std::chrono::nanoseconds delay) {
+  constexpr long kNsPerSecond = 1'000'000'000;
+  const long long total = static_cast<long long>(from.tv_nsec) + delay.count();
+  timespec due{from.tv_sec + static_cast<time_t>(total / kNsPerSecond), total % kNsPerSecond};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &due, nullptr) == EINTR) {
+  }
+}
+
+// The N of --reply-after-us N, or nullopt without the option.
+std::optional<std::chrono::microseconds> parse_delay(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  if (args.empty()) {
+    return std::nullopt;
+  }
+  if (args.size() != 2 || args[0] != "--reply-after-us") {
+    throw std::invalid_argument("usage: pty_echo [--reply-after-us N]");
+  }
+  const std::string value(args[1]);
+  char* end = nullptr;
+  const long long us = std::strtoll(value.c_str(), &end, 10);
+  if (end == value.c_str() || *end != '\0' || us < 0) {
+    throw std::invalid_argument("--reply-after-us needs a number of microseconds, not \"" + value +
+                                "\"");
+  }
+  return std::chrono::microseconds{us};
+}
+
 void write_all(int fd, const std::vector<std::uint8_t>& bytes) {
   for (std::size_t sent = 0; sent < bytes.size();) {
     const ssize_t n = ::write(fd, bytes.data() + sent, bytes.size() - sent);
@@ -74,8 +115,12 @@ void write_all(int fd, const std::vector<std::uint8_t>& bytes) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   try {
+    const auto delay = parse_delay(argc, argv);
+    if (delay) {
+      prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+    }
     const std::size_t instruction_size = bench::read_position_instruction(kServoId).size();
     const std::vector<std::uint8_t> status =
         bench::read_position_status(kServoId, bench::kStartPosition);
@@ -96,8 +141,13 @@ int main() {
       if (n < 0 && errno != EINTR) {
         bench::fail("read");
       }
+      timespec read_at{};
+      clock_gettime(CLOCK_MONOTONIC, &read_at);
       for (pending += n > 0 ? static_cast<std::size_t>(n) : 0; pending >= instruction_size;
            pending -= instruction_size) {
+        if (delay) {
+          sleep_until(read_at, *delay);
+        }
         write_all(master, status);
       }
     }

@@ -21,10 +21,15 @@
 // (scripts/bench.sh puts it in docs/benchmarks.md); progress goes to stderr.
 //
 // Usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N]
-//                      [--arg ARG]...
+//                      [--arg ARG]... [--echo PATH]
 //        reply_latency --pty PATH --baud BPS [--count N] [--warmup N] [--cpu N]
 // --arg ARG passes ARG on to `dxlemu run` (repeat it for several). The second form measures an
 // emulator already serving xm430-w350 IDs 1 ~ 10 at BPS on PATH.
+// --echo PATH (bench/pty_echo) adds, after dxlemu's cases at each baud rate, the Read 4 B case
+// against `pty_echo --reply-after-us MODELLED`: a process that does nothing but sleep until the
+// reply's modelled time and write it. Its CPU per round trip is the floor of any responder that
+// keeps reply timing (one sleep for the instruction, one for the reply); dxlemu's Read 4 B row
+// of the same run, divided by it, is what dxlemu costs beyond that floor.
 // --cpu N pins the bench, and the dxlemu it starts, to CPU N: the reply then wakes the client on
 // the CPU that sent it, which takes the cost of waking another (idle, possibly halted virtual)
 // CPU out of the figures.
@@ -38,6 +43,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bus/line_timing.hpp"
@@ -85,6 +91,7 @@ struct Options {
   int warmup = 50;
   int cpu = -1;  // with --cpu N, the bench and the dxlemu it starts run on CPU N only
   std::vector<std::string> daemon_args;  // --arg ARG: more arguments for `dxlemu run`
+  std::string echo;                      // --echo PATH: pty_echo, the bare timed responder
 };
 
 // One kind of round trip: the instruction, the replies it gets (one entry per packet on the
@@ -258,9 +265,27 @@ std::vector<Case> cases() {
   };
 }
 
+// The case pty_echo answers (its canned status is this one's reply).
+constexpr std::string_view kEchoCase = "Read 4 B";
+
+// The Read 4 B case against pty_echo answering at the modelled time: the bare timed responder.
+void measure_echo(std::uint32_t bps, const Options& options) {
+  const std::vector<Case> all = cases();
+  Case read =
+      *std::find_if(all.begin(), all.end(), [](const Case& c) { return c.name == kEchoCase; });
+  const auto delay = std::chrono::round<microseconds>(read.modelled(bps));
+  dxlemu::bench::Daemon echo(
+      std::vector<std::string>{options.echo, "--reply-after-us", std::to_string(delay.count())});
+  const int fd = dxlemu::bench::open_port(echo.pty(), bps);
+  read.name += ", bare timed responder";
+  std::cerr << "reply_latency: " << read.name << " at " << bps << " bit/s\n";
+  print_row(bps, read, measure(fd, bps, read, options, echo.pid()));
+  ::close(fd);
+}
+
 constexpr const char* kUsage =
     "usage: reply_latency --dxlemu PATH [--baud BPS]... [--count N] [--warmup N] [--cpu N] "
-    "[--arg ARG]...\n"
+    "[--arg ARG]... [--echo PATH]\n"
     "       reply_latency --pty PATH --baud BPS [--count N] [--warmup N] [--cpu N]";
 
 Options parse(int argc, char** argv) {
@@ -275,10 +300,11 @@ Options parse(int argc, char** argv) {
                               {"--count", [&](const std::string& v) { o.count = std::stoi(v); }},
                               {"--warmup", [&](const std::string& v) { o.warmup = std::stoi(v); }},
                               {"--cpu", [&](const std::string& v) { o.cpu = std::stoi(v); }},
-                              {"--arg", [&](const std::string& v) { o.daemon_args.push_back(v); }}},
+                              {"--arg", [&](const std::string& v) { o.daemon_args.push_back(v); }},
+                              {"--echo", [&](const std::string& v) { o.echo = v; }}},
                              kUsage);
   if (o.dxlemu.empty() == o.pty.empty() || (!o.pty.empty() && o.bauds.size() != 1) ||
-      o.count <= 0 || o.warmup < 0) {
+      o.count <= 0 || o.warmup < 0 || (!o.echo.empty() && o.dxlemu.empty())) {
     throw std::invalid_argument(kUsage);
   }
   if (o.bauds.empty()) {
@@ -312,6 +338,9 @@ int main(int argc, char** argv) {
                           daemon ? std::optional<pid_t>(daemon->pid()) : std::nullopt));
       }
       ::close(fd);
+      if (!options.echo.empty()) {
+        measure_echo(bps, options);
+      }
     }
   });
 }

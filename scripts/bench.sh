@@ -49,7 +49,8 @@ end='<!-- bench.sh: end -->'
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
-command=("$build/bench/reply_latency" --dxlemu "$build/emulator/dxlemu" --count "$count")
+command=("$build/bench/reply_latency" --dxlemu "$build/emulator/dxlemu" --count "$count"
+         --echo "$build/bench/pty_echo")
 throughput=("$build/bench/throughput" --dxlemu "$build/emulator/dxlemu" --echo "$build/bench/pty_echo"
             --seconds "$seconds" --runs "$rounds")
 scale=("$build/bench/scale" --dxlemu "$build/emulator/dxlemu" --seconds "$seconds")
@@ -123,8 +124,23 @@ timing_met() {
   awk -F'|' '
     function abs(x) { return x < 0 ? -x : x }
     FNR <= 2 || NF < 11 { next }
+    $3 ~ /bare timed responder/ { next }
     $2 + 0 == 1000000 { n++; if ($9 !~ /-  *$/ && abs($9 + 0) <= 20 && $10 + 0 <= 100) ok++ }
     END { print (ok + 0) " of " (n + 0) }' "$@"
+}
+# cpu_ratio FILE...: per run (FILE), dxlemu's CPU per Read 4 B round trip at 1 Mbit/s over the
+# bare timed responder's in the same run, as "R1 / R2 ...".
+cpu_ratio() {
+  local f ratios=()
+  for f in "$@"; do
+    ratios+=("$(awk -F'|' '
+      function trim(s) { gsub(/^ +| +$/, "", s); return s }
+      $2 + 0 == 1000000 && trim($3) == "Read 4 B" { dx = trim($12) }
+      $2 + 0 == 1000000 && trim($3) == "Read 4 B, bare timed responder" { bare = trim($12) }
+      END { if (dx == "" || bare == "" || bare + 0 == 0) print "-"; else printf "%.2f", dx / bare }' "$f")")
+  done
+  local IFS=/
+  echo "${ratios[*]}" | sed 's|/| / |g'
 }
 # met VALUE TARGET-AWK-CONDITION: "yes" or "no".
 met() {
@@ -145,6 +161,7 @@ targets() {
   echo "|---|---|---|---|"
   echo "| reply timing at 1 Mbit/s, any CPU: (instruction, run) pairs with \\|median\\| ≤ 20 µs and p99 ≤ 100 µs | all | $free_met | $(met "$free_met" 'split(v, a, " of ") && a[1] == a[2]') |"
   echo "| reply timing at 1 Mbit/s, pinned to one CPU: the same | all | $pinned_met | $(met "$pinned_met" 'split(v, a, " of ") && a[1] == a[2]') |"
+  echo "| realtime CPU per Read 4 B round trip at 1 Mbit/s over a bare timed responder's (\`pty_echo --reply-after-us\`), per run | ≈ 1 | $(cpu_ratio "$out"/free-*.md) | - |"
   echo "| Read 4 B round trips/s under \`--timing fast\` against a bare PTY program (median of $rounds rounds) | ≥ 0.8 | $ratio | $(met "$ratio" 'v + 0 >= 0.8') |"
   echo "| 253 servos: Sync Read replies correct and in order | all | $correct_sync | $(met "$correct_sync" 'split(v, a, " of ") && a[1] == a[2]') |"
   echo "| 253 servos: broadcast Ping replies correct and in order | all | $correct_ping | $(met "$correct_ping" 'split(v, a, " of ") && a[1] == a[2]') |"
