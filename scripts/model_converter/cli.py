@@ -101,18 +101,26 @@ def main(argv=None, description: str = "") -> int:
     ap.add_argument("--quiet", action="store_true", help="no per-model summary")
     args = ap.parse_args(argv)
     files = build_all(Reference(args.reference), args.quiet or args.check)
-    out: Path = args.out
-    if args.check:
+    status = write_or_check(files, args.out, args.check, "models", "scripts/convert_models.py")
+    if args.check and status == 0:
+        print_not_converted(Reference(args.reference))
+    return status
+
+
+def write_or_check(files: dict[str, str], out: Path, check: bool, what: str, script: str) -> int:
+    """Writes `files` ({name: text}) into `out`, touching only those that change; with `check`,
+    writes nothing and returns 1 after naming every file of `out` that differs from `files`, is
+    missing or is stale (nothing generates it). Shared with the FEETECH converter."""
+    if check:
         differ, stale = differences(files, out)
         for f in differ:
             print(f"differs: {out / f}")
         for f in stale:
             print(f"not generated (stale): {out / f}")
         if differ or stale:
-            print("run: python3 scripts/convert_models.py")
+            print(f"run: python3 {script}")
             return 1
-        print(f"models: {len(files)} files up to date")
-        print_not_converted(Reference(args.reference))
+        print(f"{what}: {len(files)} files up to date")
         return 0
     out.mkdir(parents=True, exist_ok=True)
     for f, text in sorted(files.items()):
