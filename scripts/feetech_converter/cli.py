@@ -3,18 +3,15 @@ them, then write models/feetech/ or (--check) compare it with what would be writ
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
-from model_converter.cli import dump, write_or_check
+from model_converter.cli import REPO_ROOT, converter_arguments, dump, write_or_check
 
 from .builder import build_model
 from .decisions import MODELS
 from .reference import read_reference
 from .validation import check_model_numbers, validate
 
-REPO_ROOT = Path(__file__).resolve().parent.parent.parent
-DEFAULT_REFERENCE = REPO_ROOT.parent / "shared" / "reference"
 DEFAULT_OUT = REPO_ROOT / "models" / "feetech"
 
 
@@ -40,12 +37,6 @@ def build_all(reference: Path) -> dict[str, str]:
 
 def main(argv=None, description: str = "") -> int:
     """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
-    ap = argparse.ArgumentParser(description=description)
-    ap.add_argument("--reference", type=Path, default=DEFAULT_REFERENCE,
-                    help="reference directory (default: ../shared/reference from the repository root)")
-    ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default: models/feetech/)")
-    ap.add_argument("--check", action="store_true",
-                    help="write nothing; exit 1 listing files that differ from what is in --out")
-    args = ap.parse_args(argv)
+    args = converter_arguments(description, DEFAULT_OUT).parse_args(argv)
     return write_or_check(build_all(args.reference), args.out, args.check, "feetech models",
                           "scripts/convert_feetech_models.py")

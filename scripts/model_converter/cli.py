@@ -90,14 +90,22 @@ def print_not_converted(ref: Reference) -> None:
         print(f"not converted: {len(rest)} reference pages have no model yet: {', '.join(rest)}")
 
 
-def main(argv=None, description: str = "") -> int:
-    """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
+def converter_arguments(description: str, out: Path) -> argparse.ArgumentParser:
+    """The options every converter takes: --reference, --out (default `out`), --check. Shared with
+    the FEETECH converter."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--reference", type=Path, default=DEFAULT_REFERENCE,
                     help="reference directory (default: ../shared/reference from the repository root)")
-    ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default: models/)")
+    ap.add_argument("--out", type=Path, default=out,
+                    help=f"output directory (default: {out.relative_to(REPO_ROOT)}/)")
     ap.add_argument("--check", action="store_true",
                     help="write nothing; exit 1 listing files that differ from what is in --out")
+    return ap
+
+
+def main(argv=None, description: str = "") -> int:
+    """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
+    ap = converter_arguments(description, DEFAULT_OUT)
     ap.add_argument("--quiet", action="store_true", help="no per-model summary")
     args = ap.parse_args(argv)
     files = build_all(Reference(args.reference), args.quiet or args.check)
