@@ -5,6 +5,7 @@
 #include <string>
 
 #include "model/family_rules.hpp"
+#include "model/item_encoding.hpp"
 
 namespace dxlemu::model {
 namespace {
@@ -355,23 +356,12 @@ bool ControlTable::eeprom_locked() const {
 }
 
 std::int64_t ControlTable::decode(const ItemSpec& item, std::span<const std::uint8_t> bytes) const {
-  std::uint64_t raw = 0;
-  for (std::size_t i = 0; i < item.size; ++i) {
-    raw |= std::uint64_t{bytes[i]} << (8 * i);
-  }
-  if (item.is_signed) {
-    const std::uint64_t sign = std::uint64_t{1} << (8 * item.size - 1);
-    return static_cast<std::int64_t>(raw ^ sign) - static_cast<std::int64_t>(sign);
-  }
-  return static_cast<std::int64_t>(raw);
+  return decode_value(item, spec_->byte_order, bytes);
 }
 
 void ControlTable::encode(const ItemSpec& item, std::int64_t value,
                           std::span<std::uint8_t> out) const {
-  const auto raw = static_cast<std::uint64_t>(value);  // two's complement for negative values
-  for (std::size_t i = 0; i < item.size; ++i) {
-    out[i] = static_cast<std::uint8_t>(raw >> (8 * i));
-  }
+  encode_value(item, spec_->byte_order, value, out);
 }
 
 std::int64_t ControlTable::get(std::size_t item) const {
@@ -437,11 +427,7 @@ std::uint64_t ControlTable::raw_value(std::size_t address, std::size_t size) con
                             " is not 1 ~ 8 bytes within the " + std::to_string(image_.size()) +
                             "-byte table of " + spec_->name);
   }
-  std::uint64_t value = 0;
-  for (std::size_t i = size; i-- > 0;) {
-    value = (value << 8) | image_[address + i];  // little-endian, as on the wire
-  }
-  return value;
+  return unpack(spec_->byte_order, std::span(image_).subspan(address, size));
 }
 
 std::vector<std::uint8_t> ControlTable::encoded(std::size_t item, std::int64_t value) const {
@@ -453,11 +439,8 @@ std::vector<std::uint8_t> ControlTable::encoded(std::size_t item, std::int64_t v
 }
 
 bool ControlTable::fits(const ItemSpec& item, std::int64_t value) {
-  const int bits = 8 * item.size;
-  const std::int64_t lo = item.is_signed ? -(std::int64_t{1} << (bits - 1)) : 0;
-  const std::int64_t hi =
-      item.is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
-  return value >= lo && value <= hi;
+  const ItemRange range = representable_range(item);
+  return value >= range.min && value <= range.max;
 }
 
 }  // namespace dxlemu::model

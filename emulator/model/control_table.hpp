@@ -15,9 +15,9 @@
 
 namespace dxlemu::model {
 
-/// The control table of one servo: a little-endian byte image initialised from its model, with
-/// the access rules of the e-Manual enforced on bus reads and writes, Indirect Address/Data, and
-/// hooks through which behaviours and the motion model plug in. Rules and choices:
+/// The control table of one servo: a byte image in its model's byte order, initialised from it,
+/// with the access rules of the e-Manual enforced on bus reads and writes, Indirect Address/Data,
+/// and hooks through which behaviours and the motion model plug in. Rules and choices:
 /// docs/control-table.md.
 class ControlTable {
  public:
@@ -114,8 +114,9 @@ class ControlTable {
   /// True while EEPROM items refuse bus writes.
   bool eeprom_locked() const;
 
-  /// Device side: the `size` bytes from `address` as one little-endian unsigned number (as on
-  /// the wire), straight from the image: no access rules, read hooks or Indirect Data mapping.
+  /// Device side: the `size` bytes from `address` as one unsigned number in the model's byte
+  /// order (as on the wire), straight from the image: no access rules, read hooks or Indirect
+  /// Data mapping.
   /// Throws std::out_of_range when they are not all inside the table or `size` is not 1 ~ 8.
   std::uint64_t raw_value(std::size_t address, std::size_t size) const;
 
@@ -123,7 +124,8 @@ class ControlTable {
   /// std::invalid_argument, as set() does, if the value does not fit the item's size.
   std::vector<std::uint8_t> encoded(std::size_t item, std::int64_t value) const;
 
-  /// True when `value` fits `item`'s size and signedness: what set() and encoded() accept.
+  /// True when `value` fits `item`'s size and encoding (representable_range(), item_encoding.hpp):
+  /// what set() and encoded() accept.
   static bool fits(const ItemSpec& item, std::int64_t value);
 
   /// How many times an EEPROM byte or a saved Hybrid value has changed since the table was made

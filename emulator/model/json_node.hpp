@@ -24,6 +24,7 @@ class JsonNode {
 
   const std::string& pointer() const { return pointer_; }
   bool has(const char* key) const { return value_.contains(key); }
+  bool is_string() const { return value_.is_string(); }
 
   /// The member `key`; refused when it is missing.
   JsonNode at(const char* key) const;

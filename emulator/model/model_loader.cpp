@@ -7,6 +7,7 @@
 #include <set>
 #include <utility>
 
+#include "model/item_encoding.hpp"
 #include "model/json_node.hpp"
 
 namespace dxlemu::model {
@@ -14,7 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 21> kModelFields = {"$schema",
+constexpr std::array<std::string_view, 22> kModelFields = {"$schema",
                                                            "name",
                                                            "title",
                                                            "model_number",
@@ -26,6 +27,7 @@ constexpr std::array<std::string_view, 21> kModelFields = {"$schema",
                                                            "baud_rates",
                                                            "default_baud_index",
                                                            "return_delay_unit_us",
+                                                           "byte_order",
                                                            "timing",
                                                            "motion",
                                                            "indirect",
@@ -35,9 +37,10 @@ constexpr std::array<std::string_view, 21> kModelFields = {"$schema",
                                                            "source",
                                                            "notes",
                                                            "items"};
-constexpr std::array<std::string_view, 16> kItemFields = {
-    "key",    "name", "address", "size",   "access",    "area",      "initial", "initial_from",
-    "signed", "min",  "max",     "values", "limit_min", "limit_max", "unit",    "note"};
+constexpr std::array<std::string_view, 17> kItemFields = {
+    "key",     "name",         "address",   "size",     "access", "area",
+    "initial", "initial_from", "signed",    "sign_bit", "min",    "max",
+    "values",  "limit_min",    "limit_max", "unit",     "note"};
 constexpr std::array<std::string_view, 2> kBaudFields = {"index", "bps"};
 constexpr std::array<std::string_view, 5> kTimingFields = {"ping_us", "read_us", "write_us",
                                                            "write_per_byte_us", "boot_ms"};
@@ -53,19 +56,46 @@ constexpr std::int64_t kU8 = 0xFF;
 constexpr std::int64_t kU16 = 0xFFFF;
 constexpr std::int64_t kU32 = 0xFFFFFFFF;
 
-// The whole range an item of `size` bytes can hold.
-std::pair<std::int64_t, std::int64_t> full_range(std::uint8_t size, bool is_signed) {
-  const int bits = size * 8;
-  if (is_signed) {
-    return {-(std::int64_t{1} << (bits - 1)), (std::int64_t{1} << (bits - 1)) - 1};
-  }
-  return {0, (std::int64_t{1} << bits) - 1};
-}
-
 bool is_snake_case(const std::string& key) {
   return !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
   });
+}
+
+// A sign-magnitude item's sign bit: inside the item, with at least one magnitude bit below it.
+std::uint8_t read_sign_bit(const JsonNode& n, const ItemSpec& s) {
+  const JsonNode bit = n.child("sign_bit");
+  if (s.is_signed) {
+    bit.fail(
+        "cannot be given with \"signed\": true (sign-magnitude or two's complement, not both)");
+  }
+  const int top = 8 * s.size - 1;
+  const std::int64_t value = bit.integer(0, kU8);
+  if (value < 1 || value > top) {
+    bit.fail("must be 1 ~ " + std::to_string(top) + " for a " + std::to_string(s.size) +
+             "-byte item, got " + std::to_string(value));
+  }
+  return static_cast<std::uint8_t>(value);
+}
+
+// The protocols a model file may name. The only place that maps their JSON spelling to
+// wire::Protocol, so that a new protocol is one more case here (and in the schema).
+wire::Protocol read_protocol(const JsonNode& n) {
+  if (n.is_string()) {
+    n.fail("unknown protocol \"" + n.string() + "\" (known: 1, 2)");
+  }
+  return static_cast<wire::Protocol>(n.integer(1, 2));
+}
+
+ByteOrder read_byte_order(const JsonNode& n) {
+  const std::string order = n.string();
+  if (order == "little") {
+    return ByteOrder::Little;
+  }
+  if (order != "big") {
+    n.fail("must be \"little\" or \"big\", got \"" + order + "\"");
+  }
+  return ByteOrder::Big;
 }
 
 // Bounds and initial_from name other items; they are resolved once every item is known.
@@ -110,7 +140,10 @@ PendingItem read_item(const JsonNode& n) {
     n.at("area").fail("must be \"EEPROM\", \"RAM\" or \"Hybrid\", got \"" + area + "\"");
   }
   s.is_signed = n.has("signed") && n.child("signed").boolean();
-  const auto [lo, hi] = full_range(s.size, s.is_signed);
+  if (n.has("sign_bit")) {
+    s.sign_bit = read_sign_bit(n, s);
+  }
+  const auto [lo, hi] = representable_range(s);
   s.min = n.has("min") ? n.child("min").integer(lo, hi) : lo;
   s.max = n.has("max") ? n.child("max").integer(lo, hi) : hi;
   if (s.min > s.max) {
@@ -458,7 +491,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
 
   const JsonNode protocols = root.at("protocols");
   for (std::size_t i = 0, n = protocols.array_size(); i < n; ++i) {
-    const auto p = static_cast<wire::Protocol>(protocols.at(i).integer(1, 2));
+    const wire::Protocol p = read_protocol(protocols.at(i));
     if (std::find(spec.protocols.begin(), spec.protocols.end(), p) != spec.protocols.end()) {
       protocols.at(i).fail("lists a protocol twice");
     }
@@ -486,6 +519,9 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   }
   spec.return_delay_unit_us =
       static_cast<std::uint32_t>(root.at("return_delay_unit_us").integer(1, kU16));
+  if (root.has("byte_order")) {
+    spec.byte_order = read_byte_order(root.child("byte_order"));
+  }
 
   const JsonNode timing = root.at("timing");
   timing.expect_object(kTimingFields);

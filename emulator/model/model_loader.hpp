@@ -17,7 +17,8 @@ namespace dxlemu::model {
 /// the format does not allow: a missing, mistyped or unknown field, an unknown family, a size
 /// other than 1, 2, 4, overlapping items, a duplicate key or address, an initial value outside its
 /// range, a bound naming an unknown item, a default baud index not in the table, an indirect
-/// block that does not match its items.
+/// block that does not match its items, a byte order other than little or big, a sign bit outside
+/// the item or given with "signed": true, an unknown protocol.
 ModelSpec parse_model(std::string_view json_text, const std::string& origin);
 
 /// `base` running firmware `version`: `base` itself for its own firmware_version, else the

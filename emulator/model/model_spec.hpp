@@ -27,6 +27,10 @@ inline constexpr double kDefaultVoltageUnitV = 0.1;
 /// 0.229), or nullopt when it starts with none.
 std::optional<double> unit_figure(std::string_view unit);
 
+/// How a multi-byte item's bytes are ordered in the table, and so on the wire: the lowest byte at
+/// the item's address (every DYNAMIXEL; FEETECH STS, SMS, HLS) or the highest (FEETECH SCS).
+enum class ByteOrder { Little, Big };
+
 /// Whether the bus may write an item.
 enum class Access { ReadOnly, ReadWrite };
 
@@ -51,7 +55,10 @@ struct ItemSpec {
   std::uint8_t size = 1;  ///< bytes: 1, 2 or 4
   Access access = Access::ReadWrite;
   Area area = Area::Ram;
-  bool is_signed = false;
+  bool is_signed = false;  ///< two's complement
+  /// Sign-magnitude instead: this bit is the sign (set: negative), the bits below it the
+  /// magnitude (FEETECH "BIT15 is the direction bit"). Never together with is_signed.
+  std::optional<std::uint8_t> sign_bit;
   std::int64_t initial = 0;
   std::optional<std::size_t> initial_from;  ///< copy this item's value at power-on instead
   std::int64_t min = 0;                     ///< static range: Data Range Error outside
@@ -141,6 +148,7 @@ struct ModelSpec {
   std::vector<BaudRate> baud_rates;
   std::int64_t default_baud_index = 0;
   std::uint32_t return_delay_unit_us = 2;
+  ByteOrder byte_order = ByteOrder::Little;  ///< of every multi-byte item
   Timing timing;
   MotionSpec motion;
   std::vector<IndirectBlock> indirect;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "model/item_encoding.hpp"
+
 namespace dxlemu::model {
 
 MotionContext::MotionContext(ControlTable& table, sim::SimDuration tick)
@@ -15,11 +17,8 @@ void MotionContext::put(const std::optional<std::size_t>& item, std::int64_t val
     return;
   }
   const ItemSpec& spec = table.spec().items[*item];
-  const int bits = 8 * spec.size;
-  const std::int64_t lo = spec.is_signed ? -(std::int64_t{1} << (bits - 1)) : 0;
-  const std::int64_t hi =
-      spec.is_signed ? (std::int64_t{1} << (bits - 1)) - 1 : (std::int64_t{1} << bits) - 1;
-  table.set(*item, std::clamp(value, lo, hi));
+  const ItemRange range = representable_range(spec);
+  table.set(*item, std::clamp(value, range.min, range.max));
 }
 
 double MotionContext::direction() const {

@@ -5,6 +5,8 @@
 #include <memory>
 #include <vector>
 
+#include "model/item_encoding.hpp"
+
 namespace dxlemu::model {
 namespace {
 
@@ -57,7 +59,7 @@ void MotionModel::install_hooks() {
     const ExtendedGoals extended = motion_.traits.extended_goals;
     if (items.operating_mode && extended != ExtendedGoals::ItemRange) {
       const ItemSpec& goal = table.spec().items[*items.goal_position];
-      const std::int64_t width_max = (std::int64_t{1} << (8 * goal.size - 1)) - 1;
+      const std::int64_t width_max = representable_range(goal).max;
       const std::int64_t turns =
           extended == ExtendedGoals::ItemWidth
               ? width_max

@@ -130,7 +130,8 @@ class Control:
     def get(self, servo: int, item: str | None = None, *, port: str | None = None,
             address: int | None = None, size: int | None = None) -> int:
         """An item's value by key (`present_temperature`), or `size` bytes at `address` as an
-        unsigned little-endian number; device-side, without access rules."""
+        unsigned number in the model's byte order (little-endian on every DYNAMIXEL); device-side,
+        without access rules."""
         return self.call("get", **_without_none(port=port, servo=servo, item=item,
                                                 address=address, size=size))["value"]
 

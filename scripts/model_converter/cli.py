@@ -90,29 +90,45 @@ def print_not_converted(ref: Reference) -> None:
         print(f"not converted: {len(rest)} reference pages have no model yet: {', '.join(rest)}")
 
 
-def main(argv=None, description: str = "") -> int:
-    """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
+def converter_arguments(description: str, out: Path) -> argparse.ArgumentParser:
+    """The options every converter takes: --reference, --out (default `out`), --check. Shared with
+    the FEETECH converter."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--reference", type=Path, default=DEFAULT_REFERENCE,
                     help="reference directory (default: ../shared/reference from the repository root)")
-    ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory (default: models/)")
+    ap.add_argument("--out", type=Path, default=out,
+                    help=f"output directory (default: {out.relative_to(REPO_ROOT)}/)")
     ap.add_argument("--check", action="store_true",
                     help="write nothing; exit 1 listing files that differ from what is in --out")
+    return ap
+
+
+def main(argv=None, description: str = "") -> int:
+    """Runs the converter on `argv` (sys.argv by default); returns the exit status."""
+    ap = converter_arguments(description, DEFAULT_OUT)
     ap.add_argument("--quiet", action="store_true", help="no per-model summary")
     args = ap.parse_args(argv)
     files = build_all(Reference(args.reference), args.quiet or args.check)
-    out: Path = args.out
-    if args.check:
+    status = write_or_check(files, args.out, args.check, "models", "scripts/convert_models.py")
+    if args.check and status == 0:
+        print_not_converted(Reference(args.reference))
+    return status
+
+
+def write_or_check(files: dict[str, str], out: Path, check: bool, what: str, script: str) -> int:
+    """Writes `files` ({name: text}) into `out`, touching only those that change; with `check`,
+    writes nothing and returns 1 after naming every file of `out` that differs from `files`, is
+    missing or is stale (nothing generates it). Shared with the FEETECH converter."""
+    if check:
         differ, stale = differences(files, out)
         for f in differ:
             print(f"differs: {out / f}")
         for f in stale:
             print(f"not generated (stale): {out / f}")
         if differ or stale:
-            print("run: python3 scripts/convert_models.py")
+            print(f"run: python3 {script}")
             return 1
-        print(f"models: {len(files)} files up to date")
-        print_not_converted(Reference(args.reference))
+        print(f"{what}: {len(files)} files up to date")
         return 0
     out.mkdir(parents=True, exist_ok=True)
     for f, text in sorted(files.items()):

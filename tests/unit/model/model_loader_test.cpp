@@ -29,12 +29,7 @@ std::string refusal(const std::function<void(json&)>& change) {
 }
 
 json& item(json& j, const std::string& key) {
-  for (json& i : j["items"]) {
-    if (i["key"] == key) {
-      return i;
-    }
-  }
-  throw std::logic_error("no item " + key);
+  return test::item_json(j, key);
 }
 
 }  // namespace

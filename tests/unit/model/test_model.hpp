@@ -2,6 +2,8 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
 
 #include "model/model_loader.hpp"
 
@@ -44,6 +46,17 @@ inline nlohmann::json test_model_json() {
       {"key": "return_delay_time", "name": "Return Delay Time", "address": 9, "size": 1, "access": "RW", "area": "EEPROM", "initial": 250, "min": 0, "max": 254}
     ]
   })");
+}
+
+/// The item with `key` of a model document, to change it before loading. Throws
+/// std::logic_error when there is none.
+inline nlohmann::json& item_json(nlohmann::json& model, const std::string& key) {
+  for (nlohmann::json& i : model["items"]) {
+    if (i["key"] == key) {
+      return i;
+    }
+  }
+  throw std::logic_error("no item " + key);
 }
 
 /// The test model as a ModelSpec.
