@@ -808,7 +808,7 @@ TEST_CASE("AX compliance: a load deflects the held shaft by margin plus slope sh
   CHECK(rig.get("present_position") == 512);
 }
 
-TEST_CASE("Instructions that only read leave a servo at rest; a write wakes it",
+TEST_CASE("Instructions that only read leave a servo at rest, and a write wakes it",
           "[model][motion]") {
   Rig rig("xm430-w350");
   rig.wait(50);  // the first ticks settle the power-on state
