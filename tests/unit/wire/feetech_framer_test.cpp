@@ -69,7 +69,7 @@ TEST_CASE("A FEETECH packet with a wrong checksum is rejected, and the next one 
   CHECK(errors[0].raw == broken);
 }
 
-TEST_CASE("FEETECH frames IDs 0 to 253 and the broadcast ID; FF is no ID",
+TEST_CASE("FEETECH frames IDs 0 to 253 and the broadcast ID, and FF is no ID",
           "[wire][feetech][framer]") {
   for (const unsigned id : {0U, 1U, 252U, 253U, 254U}) {
     INFO("id " << id);
