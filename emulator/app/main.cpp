@@ -21,6 +21,7 @@
 #include "io/child_process.hpp"
 #include "io/control_client.hpp"
 #include "model/model_error.hpp"
+#include "wire/protocol.hpp"
 
 namespace {
 
@@ -174,7 +175,7 @@ std::string protocols_text(const dxlemu::model::ModelSpec& spec) {
     if (!out.empty()) {
       out += ',';
     }
-    out += p == dxlemu::wire::Protocol::V1 ? "1.0" : "2.0";
+    out += dxlemu::wire::protocol_name(p);
   }
   return out;
 }

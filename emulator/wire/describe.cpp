@@ -79,6 +79,14 @@ struct Describer {
       out += "]";
     }
   }
+  void operator()(const ParameterRecovery&) const {}
+  void operator()(const ParameterBackup&) const {}
+  void operator()(const StatusReset&) const {}
+  void operator()(const PositionCalibration& p) const {
+    if (p.position) {
+      field("position", *p.position);
+    }
+  }
   void operator()(const UnknownInstruction& u) const {
     out += " instruction=" + hex_byte(u.instruction);
     if (!u.params.empty()) {
@@ -98,11 +106,11 @@ struct Describer {
 
 std::string describe(const InstructionPacket& packet) {
   std::string out = "id=" + std::to_string(packet.id) + " ";
-  // An UnknownInstruction may carry a byte that names an instruction of the other protocol
+  // An UnknownInstruction may carry a byte that names an instruction of another protocol
   // (0x10 in 1.0); it is still unknown to this packet's protocol.
   out += std::holds_alternative<UnknownInstruction>(packet.instruction)
              ? std::string_view("unknown")
-             : instruction_name(instruction_code(packet.instruction));
+             : instruction_name(packet.protocol, instruction_code(packet.instruction));
   std::visit(Describer{out}, packet.instruction);
   return out;
 }

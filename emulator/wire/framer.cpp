@@ -13,7 +13,8 @@ namespace {
 
 using sim::SimDuration;
 
-// protocol1.md / protocol2.md "Byte to Byte Time".
+// protocol1.md / protocol2.md "Byte to Byte Time". FEETECH documents none; its frame is the 1.0
+// frame, so a FEETECH framer waits as long as a 1.0 servo (docs/wire.md "FEETECH").
 constexpr SimDuration kV1InterByteTimeout = std::chrono::milliseconds(100);
 constexpr SimDuration kV2InterByteTimeout = std::chrono::microseconds(1500);
 
@@ -32,7 +33,7 @@ constexpr std::size_t kCompactBytes = 4096;
 FrameFormat FrameFormat::for_protocol(Protocol protocol) {
   FrameFormat f;
   f.protocol = protocol;
-  if (protocol == Protocol::V1) {
+  if (has_v1_layout(protocol)) {
     f.header = {0xFF, 0xFF};
     f.length_field_bytes = 1;
     f.min_length = 2;  // instruction + checksum: "Length = number of Parameters + 2"
@@ -104,7 +105,7 @@ std::size_t Framer::find_header(std::size_t from) const {
 
 bool Framer::check_ok(std::size_t pos, std::size_t total) const {
   const std::span<const std::uint8_t> packet(buf_.data() + pos, total);
-  if (format_.protocol == Protocol::V1) {
+  if (has_v1_layout(format_.protocol)) {
     // The checksum covers ID .. last parameter: everything after the header, before the checksum.
     const std::size_t h = format_.header.size();
     return v1_checksum(packet.subspan(h, total - h - 1)) == packet[total - 1];
@@ -231,6 +232,8 @@ void Framer::scan(bool stale, std::vector<FramerEvent>& out) {
     std::size_t length = buf_[pos + h + 1];
     // FF FF FD 00 is the Protocol 2.0 header: on a mixed bus it is the other protocol's traffic,
     // not a broken 1.0 packet (whose LENGTH is never 0), so it is skipped like any other noise.
+    // No DYNAMIXEL 2.0 device shares a bus with FEETECH servos, so there it is what it reads as:
+    // a packet to ID 0xFD with an impossible LENGTH.
     if (format_.protocol == Protocol::V1 && id == kV2HeaderThirdByte && length == 0) {
       skip_garbage(1);
       continue;

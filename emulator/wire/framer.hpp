@@ -15,22 +15,22 @@ namespace dxlemu::wire {
 /// How one protocol lays out a packet, as far as framing needs to know.
 struct FrameFormat {
   Protocol protocol = Protocol::V2;
-  /// Header bytes (1.0: FF FF; 2.0: FF FF FD 00, the reserved byte included).
+  /// Header bytes (1.0 and FEETECH: FF FF; 2.0: FF FF FD 00, the reserved byte included).
   std::vector<std::uint8_t> header;
-  /// Width of the LENGTH field (1.0: 1 byte; 2.0: 2 bytes, little-endian).
+  /// Width of the LENGTH field (1.0, FEETECH: 1 byte; 2.0: 2 bytes, little-endian).
   std::size_t length_field_bytes = 2;
   /// Smallest LENGTH value: instruction byte plus the check bytes.
   std::size_t min_length = 3;
   /// Largest LENGTH value accepted; a header announcing more is rejected as impossible, so that
   /// noise cannot make the framer swallow the packets that follow.
   std::size_t max_length = 0;
-  /// Width of the integrity check (1.0: checksum, 1 byte; 2.0: CRC-16, 2 bytes).
+  /// Width of the integrity check (1.0, FEETECH: checksum, 1 byte; 2.0: CRC-16, 2 bytes).
   std::size_t check_bytes = 2;
   /// A partial packet is dropped when the gap to the next byte exceeds this (protocol1.md and
-  /// protocol2.md "Byte to Byte Time": 100 ms and 1.5 ms).
+  /// protocol2.md "Byte to Byte Time": 100 ms and 1.5 ms; FEETECH, undocumented: 1.0's 100 ms).
   sim::SimDuration inter_byte_timeout{};
 
-  /// The format of Protocol 1.0 or 2.0 with the defaults documented in docs/wire.md.
+  /// The format of Protocol 1.0, 2.0 or FEETECH with the defaults documented in docs/wire.md.
   static FrameFormat for_protocol(Protocol protocol);
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <variant>
 #include <vector>
 
@@ -53,7 +54,7 @@ struct FactoryReset {
   bool operator==(const FactoryReset&) const = default;
 };
 
-/// Reboot (0x08).
+/// Reboot (0x08); FEETECH's Restart (0x08) decodes as this too.
 struct Reboot {
   bool operator==(const Reboot&) const = default;
 };
@@ -74,7 +75,8 @@ struct ControlTableBackup {
   bool operator==(const ControlTableBackup&) const = default;
 };
 
-/// Sync Read (0x82, 2.0): the same `length` bytes from `address` of every device in `ids`.
+/// Sync Read (0x82, 2.0 and FEETECH): the same `length` bytes from `address` of every device in
+/// `ids`.
 struct SyncRead {
   std::uint16_t address = 0;
   std::uint16_t length = 0;
@@ -136,6 +138,34 @@ struct BulkWrite {
   bool operator==(const BulkWrite&) const = default;
 };
 
+/// FEETECH Parameter recovery (0x06): "Restore all servo parameters except the ID" from what
+/// Parameter backup stored (protocol-ft-scs.md 4.10). Not a DYNAMIXEL Factory Reset, which
+/// restores the factory values. No parameters.
+struct ParameterRecovery {
+  bool operator==(const ParameterRecovery&) const = default;
+};
+
+/// FEETECH Parameter backup (0x09): stores the current parameters for Parameter recovery
+/// (protocol-ft-scs.md 4.11). No parameters.
+struct ParameterBackup {
+  bool operator==(const ParameterBackup&) const = default;
+};
+
+/// FEETECH RESET (0x0A): "Reset the servo status (reset the servo turn count)"
+/// (protocol-ft-scs.md 4.8). No parameters.
+struct StatusReset {
+  bool operator==(const StatusReset&) const = default;
+};
+
+/// FEETECH Position calibration (0x0B): "recalibrate the current position to the set value", or
+/// to the middle position when no value is given (protocol-ft-scs.md 4.9).
+struct PositionCalibration {
+  /// The set value, a 16-bit word sent low byte first (Example 11: 00 04 = 1024); nullopt for
+  /// the middle position.
+  std::optional<std::uint16_t> position;
+  bool operator==(const PositionCalibration&) const = default;
+};
+
 /// An instruction byte this protocol does not define; a servo answers it with Instruction Error.
 struct UnknownInstruction {
   std::uint8_t instruction = 0;
@@ -143,10 +173,11 @@ struct UnknownInstruction {
   bool operator==(const UnknownInstruction&) const = default;
 };
 
-/// Every instruction of protocol1.md and protocol2.md.
+/// Every instruction of protocol1.md, protocol2.md and protocol-ft-scs.md.
 using Instruction = std::variant<Ping, Read, Write, RegWrite, Action, FactoryReset, Reboot, Clear,
                                  ControlTableBackup, SyncRead, FastSyncRead, SyncWrite, BulkRead,
-                                 FastBulkRead, BulkWrite, UnknownInstruction>;
+                                 FastBulkRead, BulkWrite, ParameterRecovery, ParameterBackup,
+                                 StatusReset, PositionCalibration, UnknownInstruction>;
 
 /// A decoded instruction packet: who it is for and what it asks.
 struct InstructionPacket {

@@ -21,14 +21,15 @@ constexpr std::uint8_t kBackupRestore = 0x02;
 constexpr std::uint8_t kV1BulkReadLeadByte = 0x00;
 
 // Reads parameter fields in order. Address and data-length fields are 1 byte in Protocol 1.0 and
-// 2 bytes (little-endian) in 2.0; everything else is a byte. Callers check remaining() first.
+// FEETECH and 2 bytes (little-endian) in 2.0; everything else is a byte. Callers check
+// remaining() first.
 class ParamReader {
  public:
   ParamReader(Protocol protocol, std::span<const std::uint8_t> params)
       : protocol_(protocol), params_(params) {}
 
   std::size_t remaining() const { return params_.size() - pos_; }
-  std::size_t field_bytes() const { return protocol_ == Protocol::V1 ? 1 : 2; }
+  std::size_t field_bytes() const { return has_v1_layout(protocol_) ? 1 : 2; }
   std::uint8_t byte() { return params_[pos_++]; }
   std::uint16_t u16() {
     const auto lo = params_[pos_];
@@ -36,7 +37,7 @@ class ParamReader {
     pos_ += 2;
     return static_cast<std::uint16_t>(lo | (hi << 8));
   }
-  std::uint16_t field() { return protocol_ == Protocol::V1 ? byte() : u16(); }
+  std::uint16_t field() { return has_v1_layout(protocol_) ? byte() : u16(); }
   std::vector<std::uint8_t> take(std::size_t n) {
     const auto first = params_.begin() + static_cast<std::ptrdiff_t>(pos_);
     pos_ += n;
@@ -68,6 +69,7 @@ struct Context {
 };
 
 using Decoded = DecodeResult<Instruction>;
+using DecodeFn = Decoded (*)(Context&);
 
 std::string bytes_word(std::size_t n) {
   return std::to_string(n) + (n == 1 ? " byte" : " bytes");
@@ -162,12 +164,13 @@ Decoded decode_backup(Context& c) {
 
 template <class SyncReadLike>
 Decoded decode_sync_read(Context& c) {
-  if (c.in.remaining() < 5) {
-    return c.wrong_length("4 bytes (address, length) and at least one ID");
+  const std::size_t head = 2 * c.in.field_bytes();
+  if (c.in.remaining() < head + 1) {
+    return c.wrong_length(bytes_word(head) + " (address, length) and at least one ID");
   }
   SyncReadLike r;
-  r.address = c.in.u16();
-  r.length = c.in.u16();
+  r.address = c.in.field();
+  r.length = c.in.field();
   if (r.length == 0) {
     return c.fail(DecodeErrorKind::BadValue, "data length must be at least 1");
   }
@@ -279,12 +282,34 @@ Decoded decode_bulk_write(Context& c) {
   return w;
 }
 
-// Which instructions each protocol defines and how to decode them. Protocol 1.0 lacks Clear,
-// Backup, Sync Read, Bulk Write and the Fast reads (protocol1.md "Instruction").
+// protocol-ft-scs.md 4.9: no parameter (the middle position) or the 2-byte set value, low byte
+// first as in Example 11. Only STS, SMS and HLS servos, all little-endian, support it.
+Decoded decode_position_calibration(Context& c) {
+  if (c.in.remaining() == 0) {
+    return PositionCalibration{};
+  }
+  if (c.in.remaining() != 2) {
+    return c.wrong_length("no parameters or 2 bytes (position, low byte first)");
+  }
+  return PositionCalibration{c.in.u16()};
+}
+
+Decoded decode_parameter_recovery(Context& c) {
+  return no_params(c, ParameterRecovery{});
+}
+Decoded decode_parameter_backup(Context& c) {
+  return no_params(c, ParameterBackup{});
+}
+Decoded decode_status_reset(Context& c) {
+  return no_params(c, StatusReset{});
+}
+
+// Which instructions each DYNAMIXEL protocol defines and how to decode them. Protocol 1.0 lacks
+// Clear, Backup, Sync Read, Bulk Write and the Fast reads (protocol1.md "Instruction").
 struct DecoderEntry {
   InstructionCode code;
   bool in_v1;
-  Decoded (*decode)(Context&);
+  DecodeFn decode;
 };
 
 constexpr std::array kDecoders = {
@@ -305,19 +330,54 @@ constexpr std::array kDecoders = {
     DecoderEntry{InstructionCode::BulkWrite, false, decode_bulk_write},
 };
 
+// FEETECH's instructions (protocol-ft-scs.md 4 and sdk-constants.md). Layouts shared with 1.0 use
+// the same decoders, which read one-byte address and length fields for FEETECH.
+struct FeetechDecoderEntry {
+  FeetechInstructionCode code;
+  DecodeFn decode;
+};
+
+constexpr std::array kFeetechDecoders = {
+    FeetechDecoderEntry{FeetechInstructionCode::Ping, decode_ping},
+    FeetechDecoderEntry{FeetechInstructionCode::Read, decode_read},
+    FeetechDecoderEntry{FeetechInstructionCode::Write, decode_write<Write>},
+    FeetechDecoderEntry{FeetechInstructionCode::RegWrite, decode_write<RegWrite>},
+    FeetechDecoderEntry{FeetechInstructionCode::Action, decode_action},
+    FeetechDecoderEntry{FeetechInstructionCode::ParameterRecovery, decode_parameter_recovery},
+    FeetechDecoderEntry{FeetechInstructionCode::Restart, decode_reboot},
+    FeetechDecoderEntry{FeetechInstructionCode::ParameterBackup, decode_parameter_backup},
+    FeetechDecoderEntry{FeetechInstructionCode::StatusReset, decode_status_reset},
+    FeetechDecoderEntry{FeetechInstructionCode::PositionCalibration, decode_position_calibration},
+    FeetechDecoderEntry{FeetechInstructionCode::SyncRead, decode_sync_read<SyncRead>},
+    FeetechDecoderEntry{FeetechInstructionCode::SyncWrite, decode_sync_write},
+};
+
+// The decoder of `code` in `protocol`, or nullptr when the protocol does not define it.
+DecodeFn decoder_for(Protocol protocol, std::uint8_t code) {
+  if (protocol == Protocol::Feetech) {
+    for (const FeetechDecoderEntry& entry : kFeetechDecoders) {
+      if (to_byte(entry.code) == code) {
+        return entry.decode;
+      }
+    }
+    return nullptr;
+  }
+  for (const DecoderEntry& entry : kDecoders) {
+    if (to_byte(entry.code) == code && (entry.in_v1 || protocol == Protocol::V2)) {
+      return entry.decode;
+    }
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 DecodeResult<InstructionPacket> decode_instruction(const Frame& frame) {
   ParamReader in(frame.protocol, frame.params);
-  Context c{frame, in, instruction_name(frame.instruction)};
-  Decoded decoded = UnknownInstruction{frame.instruction, frame.params};
-  for (const DecoderEntry& entry : kDecoders) {
-    if (to_byte(entry.code) == frame.instruction &&
-        (entry.in_v1 || frame.protocol == Protocol::V2)) {
-      decoded = entry.decode(c);
-      break;
-    }
-  }
+  Context c{frame, in, instruction_name(frame.protocol, frame.instruction)};
+  const auto decode = decoder_for(frame.protocol, frame.instruction);
+  Decoded decoded =
+      decode != nullptr ? decode(c) : Decoded{UnknownInstruction{frame.instruction, frame.params}};
   if (auto* error = std::get_if<DecodeError>(&decoded)) {
     return std::move(*error);
   }
@@ -325,8 +385,8 @@ DecodeResult<InstructionPacket> decode_instruction(const Frame& frame) {
 }
 
 DecodeResult<StatusPacket> decode_status(const Frame& frame) {
-  if (frame.protocol == Protocol::V1) {
-    return StatusPacket{Protocol::V1, frame.id, frame.instruction, frame.params};
+  if (has_v1_layout(frame.protocol)) {
+    return StatusPacket{frame.protocol, frame.id, frame.instruction, frame.params};
   }
   if (frame.instruction != to_byte(InstructionCode::Status) || frame.params.empty()) {
     return DecodeError{DecodeErrorKind::NotStatus, frame.id, frame.instruction,

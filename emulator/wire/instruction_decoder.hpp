@@ -39,8 +39,8 @@ using DecodeResult = std::variant<T, DecodeError>;
 /// layouts are validated (lengths, block sizes, fixed bytes, option values).
 DecodeResult<InstructionPacket> decode_instruction(const Frame& frame);
 
-/// Decodes a status packet (2.0: instruction 0x55 and an error byte; 1.0: any packet, the
-/// instruction position holding the error).
+/// Decodes a status packet (2.0: instruction 0x55 and an error byte; 1.0 and FEETECH: any packet,
+/// the instruction position holding the error).
 DecodeResult<StatusPacket> decode_status(const Frame& frame);
 
 /// Decodes a Fast Sync/Bulk Read reply; `lengths` are the data lengths requested of each device,

@@ -1,5 +1,7 @@
 #include "wire/instruction_encoder.hpp"
 
+#include <algorithm>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -12,7 +14,7 @@ namespace {
 constexpr std::uint8_t kV1BulkReadLeadByte = 0x00;
 
 // Writes parameter fields; the counterpart of the decoder's ParamReader. Address and length
-// fields take 1 byte in Protocol 1.0 and 2 bytes (little-endian) in 2.0.
+// fields take 1 byte in Protocol 1.0 and FEETECH and 2 bytes (little-endian) in 2.0.
 class ParamWriter {
  public:
   explicit ParamWriter(Protocol protocol) : protocol_(protocol) {}
@@ -23,24 +25,29 @@ class ParamWriter {
     out_.push_back(static_cast<std::uint8_t>(v >> 8));
   }
   void field(std::uint16_t v, const char* what) {
-    if (protocol_ == Protocol::V2) {
+    if (!has_v1_layout(protocol_)) {
       u16(v);
       return;
     }
     if (v > 0xFF) {
-      throw std::invalid_argument(std::string("Protocol 1.0 ") + what + " " + std::to_string(v) +
-                                  " does not fit one byte");
+      throw std::invalid_argument(std::string(protocol_title(protocol_)) + " " + what + " " +
+                                  std::to_string(v) + " does not fit one byte");
     }
     byte(static_cast<std::uint8_t>(v));
   }
   void bytes(const std::vector<std::uint8_t>& data) {
     out_.insert(out_.end(), data.begin(), data.end());
   }
-  void require_v2(const char* name) const {
-    if (protocol_ != Protocol::V2) {
-      throw std::invalid_argument(std::string(name) + " does not exist in Protocol 1.0");
+  // Throws unless the packet's protocol is one of `protocols`: `name` does not exist in it.
+  void require(std::initializer_list<Protocol> protocols, const char* name) const {
+    if (std::find(protocols.begin(), protocols.end(), protocol_) == protocols.end()) {
+      throw std::invalid_argument(std::string(name) + " does not exist in " +
+                                  std::string(protocol_title(protocol_)));
     }
   }
+  void require_v2(const char* name) const { require({Protocol::V2}, name); }
+  void require_dynamixel(const char* name) const { require({Protocol::V1, Protocol::V2}, name); }
+  void require_feetech(const char* name) const { require({Protocol::Feetech}, name); }
   bool v1() const { return protocol_ == Protocol::V1; }
   std::vector<std::uint8_t>& params() { return out_; }
 
@@ -62,6 +69,7 @@ struct ParamsEncoder {
   void operator()(const Write& x) const { address_and_data(x.address, x.data); }
   void operator()(const RegWrite& x) const { address_and_data(x.address, x.data); }
   void operator()(const FactoryReset& f) const {
+    w.require_dynamixel("factory_reset");
     if (w.v1()) {
       if (f.option != factory_reset::kResetAll) {
         throw std::invalid_argument("Protocol 1.0 Factory Reset has no options");
@@ -74,8 +82,14 @@ struct ParamsEncoder {
   void operator()(const ControlTableBackup& c) const {
     option_and_data("control_table_backup", c.option, c.data);
   }
-  void operator()(const SyncRead& r) const { sync_read("sync_read", r); }
-  void operator()(const FastSyncRead& r) const { sync_read("fast_sync_read", r); }
+  void operator()(const SyncRead& r) const {
+    w.require({Protocol::V2, Protocol::Feetech}, "sync_read");
+    sync_read(r);
+  }
+  void operator()(const FastSyncRead& r) const {
+    w.require_v2("fast_sync_read");
+    sync_read(r);
+  }
   void operator()(const SyncWrite& s) const {
     w.field(s.address, "address");
     w.field(s.length, "length");
@@ -90,6 +104,7 @@ struct ParamsEncoder {
     }
   }
   void operator()(const BulkRead& r) const {
+    w.require_dynamixel("bulk_read");
     if (w.v1()) {
       // protocol1.md "Bulk Read": 0x00, then [length, ID, address] per device.
       w.byte(kV1BulkReadLeadByte);
@@ -115,6 +130,15 @@ struct ParamsEncoder {
       w.bytes(t.data);
     }
   }
+  void operator()(const ParameterRecovery&) const { w.require_feetech("parameter_recovery"); }
+  void operator()(const ParameterBackup&) const { w.require_feetech("parameter_backup"); }
+  void operator()(const StatusReset&) const { w.require_feetech("status_reset"); }
+  void operator()(const PositionCalibration& p) const {
+    w.require_feetech("position_calibration");
+    if (p.position) {
+      w.u16(*p.position);  // low byte first (protocol-ft-scs.md 4.9, Example 11)
+    }
+  }
   void operator()(const UnknownInstruction& u) const { w.bytes(u.params); }
 
   void address_and_data(std::uint16_t address, const std::vector<std::uint8_t>& data) const {
@@ -127,10 +151,9 @@ struct ParamsEncoder {
     w.byte(option);
     w.bytes(data);
   }
-  void sync_read(const char* name, const SyncRead& r) const {
-    w.require_v2(name);
-    w.u16(r.address);
-    w.u16(r.length);
+  void sync_read(const SyncRead& r) const {
+    w.field(r.address, "address");
+    w.field(r.length, "length");
     w.bytes(r.ids);
   }
   void bulk_read_v2(const BulkRead& r) const {
@@ -141,6 +164,26 @@ struct ParamsEncoder {
     }
   }
 };
+
+// The instructions only FEETECH defines; their codes are FeetechInstructionCode values.
+template <class T>
+constexpr bool kIsFeetechOnly =
+    std::is_same_v<T, ParameterRecovery> || std::is_same_v<T, ParameterBackup> ||
+    std::is_same_v<T, StatusReset> || std::is_same_v<T, PositionCalibration>;
+
+template <class T>
+constexpr std::uint8_t feetech_code_of() {
+  if constexpr (std::is_same_v<T, ParameterRecovery>) {
+    return to_byte(FeetechInstructionCode::ParameterRecovery);
+  } else if constexpr (std::is_same_v<T, ParameterBackup>) {
+    return to_byte(FeetechInstructionCode::ParameterBackup);
+  } else if constexpr (std::is_same_v<T, StatusReset>) {
+    return to_byte(FeetechInstructionCode::StatusReset);
+  } else {
+    static_assert(std::is_same_v<T, PositionCalibration>, "not a FEETECH-only instruction");
+    return to_byte(FeetechInstructionCode::PositionCalibration);
+  }
+}
 
 template <class T>
 constexpr InstructionCode code_of() {
@@ -187,6 +230,8 @@ std::uint8_t instruction_code(const Instruction& instruction) {
         using T = std::decay_t<decltype(x)>;
         if constexpr (std::is_same_v<T, UnknownInstruction>) {
           return x.instruction;
+        } else if constexpr (kIsFeetechOnly<T>) {
+          return feetech_code_of<T>();
         } else {
           return to_byte(code_of<T>());
         }

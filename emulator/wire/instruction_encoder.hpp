@@ -9,7 +9,8 @@ namespace dxlemu::wire {
 
 /// Builds the instruction packet a controller would send: the client side of the codec, used by
 /// tests, benchmarks and tools. Throws std::invalid_argument for what the protocol cannot express
-/// (a 2.0-only instruction in 1.0, a 1.0 address or length over 255, Sync Write data whose size
+/// (an instruction the protocol does not define, such as a 2.0-only one in 1.0 or a FEETECH-only
+/// one in DYNAMIXEL; a 1.0 or FEETECH address or length over 255; Sync Write data whose size
 /// differs from its length): caller bugs, never a reaction to input.
 std::vector<std::uint8_t> encode_instruction(const InstructionPacket& packet);
 

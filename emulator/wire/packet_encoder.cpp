@@ -44,11 +44,11 @@ std::vector<std::uint8_t> v2_head(std::uint8_t id, std::size_t length) {
 std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
                                         std::uint8_t instruction,
                                         std::span<const std::uint8_t> params) {
-  if (protocol == Protocol::V1) {
+  if (has_v1_layout(protocol)) {
     const std::size_t length = params.size() + kV1LengthOverhead;
     if (length > std::numeric_limits<std::uint8_t>::max()) {
-      throw std::invalid_argument("Protocol 1.0 LENGTH " + std::to_string(length) +
-                                  " does not fit one byte");
+      throw std::invalid_argument(std::string(protocol_title(protocol)) + " LENGTH " +
+                                  std::to_string(length) + " does not fit one byte");
     }
     std::vector<std::uint8_t> packet = {kHeaderByte, kHeaderByte, id,
                                         static_cast<std::uint8_t>(length), instruction};
@@ -69,8 +69,8 @@ std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
 }
 
 std::vector<std::uint8_t> encode_status(const StatusPacket& status) {
-  if (status.protocol == Protocol::V1) {
-    return encode_packet(Protocol::V1, status.id, status.error, status.params);
+  if (has_v1_layout(status.protocol)) {
+    return encode_packet(status.protocol, status.id, status.error, status.params);
   }
   if (status.id == kBroadcastId) {
     // No device answers from the broadcast ID; a 2.0 status from 0xFE is a Fast reply, which is

@@ -10,14 +10,16 @@
 
 namespace dxlemu::wire {
 
-/// Builds a complete packet: header, ID, LENGTH, `instruction`, `params`, checksum (1.0) or
-/// stuffing and CRC (2.0). Throws std::invalid_argument when the packet cannot be expressed
-/// (1.0 LENGTH over 255, 2.0 LENGTH over 65535): a caller bug, never a reaction to input.
+/// Builds a complete packet: header, ID, LENGTH, `instruction`, `params`, checksum (1.0, FEETECH)
+/// or stuffing and CRC (2.0). Throws std::invalid_argument when the packet cannot be expressed
+/// (1.0 or FEETECH LENGTH over 255, 2.0 LENGTH over 65535): a caller bug, never a reaction to
+/// input.
 std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
                                         std::uint8_t instruction,
                                         std::span<const std::uint8_t> params);
 
-/// Builds a status packet (2.0: instruction 0x55 followed by the error byte). Throws
+/// Builds a status packet (2.0: instruction 0x55 followed by the error byte; 1.0 and FEETECH: the
+/// error byte in the instruction position). Throws
 /// std::invalid_argument for a 2.0 status from ID 0xFE: only a Fast reply comes from there.
 std::vector<std::uint8_t> encode_status(const StatusPacket& status);
 

@@ -35,4 +35,20 @@ inline constexpr std::uint8_t kOverload = 1U << 5;
 inline constexpr std::uint8_t kInstruction = 1U << 6;
 }  // namespace v1_error
 
+/// FEETECH status bits: the ERROR byte of an FT-SCS status packet mirrors the "Servo status" item
+/// (address 65) of the memory tables. Names after FTServo_Python's ERRBIT_* constants, meanings
+/// after the wiki (sts3215.md "3.2 Servo Status"). Bits 4, 6 and 7 are undefined; SCS/SCSCL
+/// servos use only bits 0, 2 and 5. Unlike Protocol 1.0 there are no instruction, checksum or
+/// range bits.
+namespace feetech_error {
+inline constexpr std::uint8_t kVoltage = 1U << 0;      ///< ERRBIT_VOLTAGE: input voltage
+inline constexpr std::uint8_t kAngleSensor = 1U << 1;  ///< ERRBIT_ANGLE: magnetic encoder
+inline constexpr std::uint8_t kOverheat = 1U << 2;     ///< ERRBIT_OVERHEAT: temperature
+inline constexpr std::uint8_t kOverCurrent = 1U << 3;  ///< ERRBIT_OVERELE: current
+inline constexpr std::uint8_t kOverload = 1U << 5;     ///< ERRBIT_OVERLOAD: load
+/// Every bit FEETECH defines.
+inline constexpr std::uint8_t kDefinedBits =
+    kVoltage | kAngleSensor | kOverheat | kOverCurrent | kOverload;
+}  // namespace feetech_error
+
 }  // namespace dxlemu::wire

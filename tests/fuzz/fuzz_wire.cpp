@@ -1,5 +1,6 @@
-// libFuzzer target for the wire codec of one protocol (DXLEMU_FUZZ_PROTOCOL = 1 or 2; CMake builds
-// fuzz_wire_v1 and fuzz_wire_v2 from this file). The input is a byte stream as a client would put
+// libFuzzer target for the wire codec of one protocol (DXLEMU_FUZZ_PROTOCOL = V1, V2 or Feetech, a
+// wire::Protocol enumerator; CMake builds fuzz_wire_v1, fuzz_wire_v2 and fuzz_wire_feetech from
+// this file). The input is a byte stream as a client would put
 // it on the bus, cut into chunks that arrive at fuzzer-chosen times (fuzz_input.hpp). Every frame
 // the Framer yields goes through every decoder, and what decodes must survive a round trip
 // through the encoders. Broken invariants abort, so libFuzzer saves the input.
@@ -29,8 +30,8 @@
 #include "wire/packet_encoder.hpp"
 #include "wire/protocol.hpp"
 
-#if !defined(DXLEMU_FUZZ_PROTOCOL) || (DXLEMU_FUZZ_PROTOCOL != 1 && DXLEMU_FUZZ_PROTOCOL != 2)
-#error "compile with -DDXLEMU_FUZZ_PROTOCOL=1 or 2"
+#if !defined(DXLEMU_FUZZ_PROTOCOL)
+#error "compile with -DDXLEMU_FUZZ_PROTOCOL=V1, V2 or Feetech"
 #endif
 
 namespace dxlemu::fuzz {
@@ -44,7 +45,7 @@ using wire::FramingError;
 using wire::FramingErrorKind;
 using wire::Protocol;
 
-constexpr Protocol kProtocol = DXLEMU_FUZZ_PROTOCOL == 1 ? Protocol::V1 : Protocol::V2;
+constexpr Protocol kProtocol = Protocol::DXLEMU_FUZZ_PROTOCOL;
 
 // Start the clock away from zero so that a time stamp of SimTime{} in an event stands out as wrong.
 constexpr SimTime kStart = sim::sim_time_from_ns(1'000'000'000);
@@ -110,8 +111,9 @@ void check_instruction(const Frame& frame) {
   }
   // Not caught on purpose: a decoded packet the encoder refuses is a codec bug.
   const std::vector<std::uint8_t> bytes = wire::encode_instruction(packet);
-  if (kProtocol == Protocol::V1) {
-    // 1.0 has no stuffing and one layout per instruction: the packet comes back byte for byte.
+  if (wire::has_v1_layout(kProtocol)) {
+    // 1.0 and FEETECH have no stuffing and one layout per instruction: the packet comes back byte
+    // for byte.
     FUZZ_REQUIRE(bytes == frame.raw);
   }
   // A sender that left "FF FF FD" in its parameters unstuffed sent a shorter packet than the
@@ -131,7 +133,8 @@ void check_instruction(const Frame& frame) {
 void check_status(const Frame& frame) {
   const auto decoded = wire::decode_status(frame);
   if (const auto* error = std::get_if<wire::DecodeError>(&decoded)) {
-    FUZZ_REQUIRE(kProtocol == Protocol::V2);  // in 1.0 every packet reads as a status
+    // In 1.0 and FEETECH every packet reads as a status.
+    FUZZ_REQUIRE(!wire::has_v1_layout(kProtocol));
     check_decode_error(*error, frame);
     return;
   }
@@ -143,7 +146,7 @@ void check_status(const Frame& frame) {
     return;
   }
   const std::vector<std::uint8_t> bytes = wire::encode_status(status);
-  if (kProtocol == Protocol::V1) {
+  if (wire::has_v1_layout(kProtocol)) {
     FUZZ_REQUIRE(bytes == frame.raw);
   }
   const auto again = wire::decode_status(reframe(bytes));

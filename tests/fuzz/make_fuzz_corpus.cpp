@@ -1,9 +1,10 @@
 // Writes the seed corpus of one fuzz target: every golden packet of the protocol as its own input,
 // plus a few combined inputs that start the fuzzer off with several packets per stream, garbage
-// between them, split chunks and inter-byte timeouts. The corpus is derived from
-// tests/data/golden_packets.txt at build time and never committed.
+// between them, split chunks and inter-byte timeouts. The corpus is derived at build time from
+// tests/data/golden_packets.txt (DYNAMIXEL) or FEETECH's example frames (feetech_examples.cpp) and
+// never committed.
 //
-// Usage: make_fuzz_corpus <1|2> <golden_packets.txt> <output directory>
+// Usage: make_fuzz_corpus <1|2|feetech> <golden_packets.txt> <output directory>
 
 #include <array>
 #include <cstdint>
@@ -11,12 +12,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "feetech_examples.hpp"
 #include "fuzz_input.hpp"
 #include "golden_file.hpp"
 
@@ -62,17 +65,39 @@ void append(std::vector<std::uint8_t>& out, std::span<const std::uint8_t> bytes)
   out.insert(out.end(), bytes.begin(), bytes.end());
 }
 
-void make_corpus(dxlemu::wire::Protocol protocol, const std::string& golden_path,
-                 const fs::path& dir) {
+// One seed packet: a file name and the bytes, and the page's misprint of them if it has one.
+struct Seed {
+  std::string name;
+  std::vector<std::uint8_t> bytes;
+  std::optional<std::vector<std::uint8_t>> printed;
+};
+
+std::vector<Seed> golden_seeds(dxlemu::wire::Protocol protocol, const std::string& golden_path) {
+  std::vector<Seed> seeds;
+  for (const auto& packet : dxlemu::test::load_golden_packets(golden_path)) {
+    if (packet.protocol == protocol) {
+      seeds.push_back({packet.name, packet.bytes, packet.printed});
+    }
+  }
+  return seeds;
+}
+
+// FEETECH's examples have no names: "feetech.<n>" in page order.
+std::vector<Seed> feetech_seeds() {
+  std::vector<Seed> seeds;
+  for (const auto& example : dxlemu::test::feetech_examples()) {
+    seeds.push_back({"feetech." + std::to_string(seeds.size() + 1), example.bytes, std::nullopt});
+  }
+  return seeds;
+}
+
+void make_corpus(const std::vector<Seed>& seeds, const fs::path& dir) {
   fs::create_directories(dir);
   std::vector<std::uint8_t> all;
   std::vector<std::uint8_t> with_garbage;
   std::vector<std::uint8_t> broken_checks;
   std::size_t count = 0;
-  for (const auto& packet : dxlemu::test::load_golden_packets(golden_path)) {
-    if (packet.protocol != protocol) {
-      continue;
-    }
+  for (const Seed& packet : seeds) {
     write_seed(dir, packet.name, {}, false, packet.bytes);
     if (packet.printed) {
       // The page's misprint fails the check: a ready-made BadCheck input.
@@ -87,7 +112,7 @@ void make_corpus(dxlemu::wire::Protocol protocol, const std::string& golden_path
     ++count;
   }
   if (count == 0) {
-    throw std::runtime_error(golden_path + ": no packets of this protocol");
+    throw std::runtime_error("no seed packets of this protocol");
   }
 
   std::vector<Chunk> split;
@@ -104,14 +129,18 @@ void make_corpus(dxlemu::wire::Protocol protocol, const std::string& golden_path
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4 || (std::string_view(argv[1]) != "1" && std::string_view(argv[1]) != "2")) {
-    std::cerr << "usage: make_fuzz_corpus <1|2> <golden_packets.txt> <output directory>\n";
+  const std::string_view protocol = argc == 4 ? argv[1] : "";
+  if (protocol != "1" && protocol != "2" && protocol != "feetech") {
+    std::cerr << "usage: make_fuzz_corpus <1|2|feetech> <golden_packets.txt> <output directory>\n";
     return 2;
   }
-  const auto protocol =
-      std::string_view(argv[1]) == "1" ? dxlemu::wire::Protocol::V1 : dxlemu::wire::Protocol::V2;
   try {
-    make_corpus(protocol, argv[2], argv[3]);
+    if (protocol == "feetech") {
+      make_corpus(feetech_seeds(), argv[3]);
+    } else {
+      const auto p = protocol == "1" ? dxlemu::wire::Protocol::V1 : dxlemu::wire::Protocol::V2;
+      make_corpus(golden_seeds(p, argv[2]), argv[3]);
+    }
   } catch (const std::exception& e) {
     std::cerr << "make_fuzz_corpus: " << e.what() << '\n';
     return 1;

@@ -38,8 +38,8 @@ inline std::size_t packet_at(const std::vector<std::uint8_t>& stream, std::size_
 
 inline void repair_packet(std::span<std::uint8_t> packet, const wire::FrameFormat& format) {
   const std::size_t total = packet.size();
-  if (format.protocol == wire::Protocol::V1) {
-    // The checksum covers ID .. last parameter (protocol1.md "Checksum").
+  if (wire::has_v1_layout(format.protocol)) {
+    // The checksum covers ID .. last parameter (protocol1.md "Checksum", FEETECH alike).
     const std::size_t h = format.header.size();
     packet[total - 1] = wire::v1_checksum(packet.subspan(h, total - h - 1));
   } else {
@@ -52,11 +52,11 @@ inline void repair_packet(std::span<std::uint8_t> packet, const wire::FrameForma
 
 }  // namespace detail
 
-/// Rewrites the checksum (1.0) or CRC (2.0) of every complete packet of `protocols` in `stream`,
-/// walking it as a receiver would: a header with a plausible LENGTH that fits is a packet, anything
-/// else is stepped over byte by byte. Where both protocols are given, a 2.0 header is tried first
-/// (FF FF FD 00 also starts like a 1.0 packet). Random bytes almost never pass a CRC-16: this lets
-/// mutations reach the decoders and the servos.
+/// Rewrites the checksum (1.0, FEETECH) or CRC (2.0) of every complete packet of `protocols` in
+/// `stream`, walking it as a receiver would: a header with a plausible LENGTH that fits is a
+/// packet, anything else is stepped over byte by byte. Where both protocols are given, a 2.0 header
+/// is tried first (FF FF FD 00 also starts like a 1.0 packet). Random bytes almost never pass a
+/// CRC-16: this lets mutations reach the decoders and the servos.
 inline void repair_checks(std::vector<std::uint8_t>& stream,
                           std::span<const wire::Protocol> protocols) {
   std::vector<wire::FrameFormat> formats;
