@@ -1,6 +1,7 @@
-"""A minimal DYNAMIXEL controller over a serial port: Ping, Read, Write, Reboot and Sync Read in
-Protocol 2.0 (Protocol 1.0 for all but Sync Read), each returning the reply's data and error
-byte, or raising CommError when no valid reply came in time.
+"""A minimal servo controller over a serial port: Ping, Read, Write, Reboot, Sync Read and Sync
+Write in DYNAMIXEL Protocol 2.0, Protocol 1.0 (all but Sync Read) or FEETECH's FT-SCS protocol
+(`protocol="feetech"`, dxlemu.feetech), each returning the reply's data and error byte, or
+raising CommError when no valid reply came in time.
 
 The packet codec (`crc16`, `stuff`, `packet2`, ...) and `Port` are re-exported from here, so
 `from dxlemu.protocol import ...` gives a controller everything it needs.
@@ -8,18 +9,20 @@ The packet codec (`crc16`, `stuff`, `packet2`, ...) and `Port` are re-exported f
 from __future__ import annotations
 
 import time
-from typing import Iterable, NamedTuple
+from typing import Iterable, Mapping, NamedTuple
 
 from .codec import (ACTION, ALERT, BROADCAST_ID, BULK_READ, BULK_WRITE, CLEAR, FACTORY_RESET, PING,
                     READ, REBOOT, REG_WRITE, STATUS, SYNC_READ, SYNC_WRITE, WRITE, BadPacket,
                     CommError, Status, checksum1, crc16, frame_status1, frame_status2, packet1,
                     packet2, stuff, unstuff)
+from .feetech import PROTOCOL as FEETECH
 from .port import BAUD_RATES, Port
 
 __all__ = [
     "ACTION", "ALERT", "BAUD_RATES", "BROADCAST_ID", "BULK_READ", "BULK_WRITE", "CLEAR",
     "FACTORY_RESET", "PING", "READ", "REBOOT", "REG_WRITE", "STATUS", "SYNC_READ", "SYNC_WRITE",
-    "WRITE", "BadPacket", "Client", "CommError", "CommTimeout", "Port", "Reply", "Status",
+    "WRITE", "BadPacket", "Client", "CommError", "CommTimeout", "FEETECH", "Port", "Reply",
+    "Status",
     "checksum1", "crc16", "frame_status1", "frame_status2", "packet1", "packet2", "stuff",
     "unstuff",
 ]
@@ -52,17 +55,19 @@ class Reply(NamedTuple):
 
 
 class Client:
-    """A controller on one serial port, speaking Protocol 2.0 (or 1.0 with `protocol=1`).
+    """A controller on one serial port, speaking Protocol 2.0 (or 1.0 with `protocol=1`, FEETECH
+    with `protocol="feetech"`: 1.0's frame, one-byte addresses, Sync Read, and Restart in place
+    of Reboot).
 
     Every exchange discards stale input, sends one instruction and waits up to `timeout`
     seconds for the addressed servo's status; status packets of other IDs are skipped. A
     timeout raises CommTimeout, a bad CRC or checksum BadPacket (both CommError). Usable as a
     context manager; a port given by path is opened here and closed by `close`."""
 
-    def __init__(self, port: Port | str, *, baud: int = 57600, protocol: int = 2,
+    def __init__(self, port: Port | str, *, baud: int = 57600, protocol: int | str = 2,
                  timeout: float = 0.5):
-        if protocol not in (1, 2):
-            raise ValueError(f"protocol must be 1 or 2, got {protocol}")
+        if protocol not in (1, 2, FEETECH):
+            raise ValueError(f"protocol must be 1, 2 or {FEETECH!r}, got {protocol!r}")
         self._owns_port = not isinstance(port, Port)
         self.port = Port(port, baud) if isinstance(port, str) else port
         self.protocol = protocol
@@ -114,20 +119,36 @@ class Client:
         complement)."""
         return self.write(ident, address, value.to_bytes(size, "little", signed=value < 0))
 
-    def reboot(self, ident: int) -> Reply:
-        """Reboot: the servo answers, then restarts and is silent for its boot time."""
+    def reboot(self, ident: int) -> Reply | None:
+        """Reboot: the servo answers, then restarts and is silent for its boot time. FEETECH's
+        Restart (the same code) sends no status: None, without waiting."""
+        if self.protocol == FEETECH:
+            self.send(ident, REBOOT)
+            return None
         return self.transact(ident, REBOOT)
 
     def sync_read(self, address: int, length: int, ids: Iterable[int]) -> dict[int, Reply]:
-        """Protocol 2.0 Sync Read of `length` bytes at `address` from each of `ids`, replies in
-        that order. A servo that does not answer raises CommTimeout (the ones after it wait for
-        it in vain on a real bus)."""
-        if self.protocol != 2:
-            raise CommError("Sync Read is a Protocol 2.0 instruction")
+        """Sync Read (Protocol 2.0 and FEETECH) of `length` bytes at `address` from each of
+        `ids`, replies in that order. A servo that does not answer raises CommTimeout (the ones
+        after it wait for it in vain on a real bus)."""
+        if self.protocol == 1:
+            raise CommError("Sync Read is not a Protocol 1.0 instruction")
         ids = list(ids)
         self.send(BROADCAST_ID, SYNC_READ,
                   self._address(address) + self._address(length) + bytes(ids))
         return {ident: self.receive(ident) for ident in ids}
+
+    def sync_write(self, address: int, data: Mapping[int, bytes]) -> None:
+        """Sync Write of each servo's bytes in `data` (ID to bytes, all of one length) at
+        `address`. Nobody answers it."""
+        blocks = [bytes(block) for block in data.values()]
+        length = len(blocks[0]) if blocks else 0
+        if any(len(block) != length for block in blocks):
+            raise ValueError("Sync Write needs the same number of bytes for every servo")
+        params = self._address(address) + self._address(length)
+        for ident, block in zip(data, blocks):
+            params += bytes([ident]) + block
+        self.send(BROADCAST_ID, SYNC_WRITE, params)
 
     def close(self) -> None:
         """Closes the port when this client opened it."""
