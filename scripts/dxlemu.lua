@@ -10,13 +10,16 @@
 -- (FF FF ID LEN INST ... checksum) and 2.0 (FF FF FD 00 ID LEN_L LEN_H INST ... CRC-16, byte
 -- stuffing) packets, several per record if need be, with bytes outside any packet shown as
 -- garbage. Client-to-servos packets are instructions, servos-to-client packets are statuses.
--- Field names: dxlemu.* for the pseudo-header, dxl.* for the packets of the protocol "dynamixel"
--- (docs/pcap.md lists them).
+-- Records of a FEETECH port (pseudo-header protocol 0x46) are decoded as FEETECH's FT-SCS packets:
+-- the 1.0 layout with FEETECH's instruction set and status bits.
+-- Field names: dxlemu.* for the pseudo-header, dxl.* for the packets of the protocol "dynamixel",
+-- feetech.* for those of the protocol "feetech" (docs/pcap.md lists them).
 
 local bitops = bit32 or bit -- Lua 5.2's bit32, or the BitOp library of other Wireshark builds
 local band, bxor, lshift, rshift = bitops.band, bitops.bxor, bitops.lshift, bitops.rshift
 
 local PSEUDO_HEADER_BYTES = 4
+local FEETECH = 0x46 -- the pseudo-header's protocol byte of a FEETECH port
 local PSEUDO_HEADER_VERSION = 1
 local TO_SERVOS, TO_CLIENT = 0, 1
 
@@ -48,6 +51,13 @@ local error_numbers = {
   [7] = "Access Error",
 }
 local checksum_status = { [0] = "Bad", [1] = "Good" }
+-- FEETECH's FT-SCS instruction set (protocol-ft-scs.md "Instruction types").
+local feetech_instruction_names = {
+  [PING] = "Ping", [READ] = "Read", [WRITE] = "Write", [REG_WRITE] = "Reg Write",
+  [0x05] = "Action", [0x06] = "Parameter Recovery", [0x08] = "Restart",
+  [0x09] = "Parameter Backup", [0x0A] = "Status Reset", [0x0B] = "Position Calibration",
+  [SYNC_READ] = "Sync Read", [SYNC_WRITE] = "Sync Write",
+}
 
 -- Protocol 2.0 CRC-16: polynomial 0x8005, initial value 0, MSB first, no reflection
 -- (protocol2-crc.md; the same table as emulator/wire/crc16.cpp).
@@ -111,7 +121,7 @@ local hf = {
   direction = ProtoField.uint8("dxlemu.direction", "Direction", base.DEC,
                                { [TO_SERVOS] = "client to servos", [TO_CLIENT] = "servos to client" }),
   protocol = ProtoField.uint8("dxlemu.protocol", "Protocol", base.DEC,
-                              { [0] = "unknown", [1] = "1.0", [2] = "2.0" }),
+                              { [0] = "unknown", [1] = "1.0", [2] = "2.0", [FEETECH] = "feetech" }),
   port = ProtoField.uint8("dxlemu.port", "Port index", base.DEC),
 }
 capture.fields = { hf.version, hf.direction, hf.protocol, hf.port }
@@ -152,6 +162,37 @@ for _, field in pairs(f) do
   dxl.fields[#dxl.fields + 1] = field
 end
 
+local feetech = Proto("feetech", "FEETECH")
+-- The same fields as DYNAMIXEL's where they mean the same, under feetech.*; the error byte holds
+-- FEETECH's servo status bits (the memory tables' "Servo status").
+local g = {
+  type = ProtoField.uint8("feetech.packet_type", "Packet type", base.DEC, { [0] = "Instruction", [1] = "Status" }),
+  header = ProtoField.bytes("feetech.header", "Header"),
+  id = ProtoField.uint8("feetech.id", "Packet ID", base.DEC),
+  length = ProtoField.uint8("feetech.length", "Length", base.DEC),
+  instruction = ProtoField.uint8("feetech.instruction", "Instruction", base.HEX,
+                                 feetech_instruction_names),
+  error = ProtoField.uint8("feetech.error", "Error (servo status)", base.HEX),
+  e_overload = ProtoField.bool("feetech.error.overload", "Overload", 8, nil, 0x20),
+  e_current = ProtoField.bool("feetech.error.current", "Overcurrent", 8, nil, 0x08),
+  e_overheat = ProtoField.bool("feetech.error.overheat", "Overheat", 8, nil, 0x04),
+  e_angle = ProtoField.bool("feetech.error.angle_sensor", "Angle sensor (magnetic encoder)", 8,
+                            nil, 0x02),
+  e_voltage = ProtoField.bool("feetech.error.voltage", "Voltage", 8, nil, 0x01),
+  params = ProtoField.bytes("feetech.params", "Parameters"),
+  address = ProtoField.uint8("feetech.address", "Address", base.DEC),
+  data_length = ProtoField.uint8("feetech.data_length", "Data length", base.DEC),
+  data = ProtoField.bytes("feetech.data", "Data"),
+  target_id = ProtoField.uint8("feetech.target_id", "Target ID", base.DEC),
+  checksum = ProtoField.uint8("feetech.checksum", "Checksum", base.HEX),
+  checksum_status = ProtoField.uint8("feetech.checksum.status", "Checksum status", base.DEC,
+                                     checksum_status),
+}
+feetech.fields = {}
+for _, field in pairs(g) do
+  feetech.fields[#feetech.fields + 1] = field
+end
+
 local ef = {
   bad_crc = ProtoExpert.new("dxl.crc.bad", "Bad CRC", expert.group.CHECKSUM, expert.severity.ERROR),
   bad_checksum = ProtoExpert.new("dxl.checksum.bad", "Bad checksum", expert.group.CHECKSUM,
@@ -175,7 +216,7 @@ capture.experts = { ef.version }
 -- pseudo-header's protocol (0: try 2.0 first, then 1.0).
 local function classify(buf, pos, avail, hint)
   local head = buf:raw(pos, math.min(avail, V2_FIXED))
-  if hint ~= 1 and V2_HEADER:sub(1, #head) == head:sub(1, 4) then
+  if hint ~= 1 and hint ~= FEETECH and V2_HEADER:sub(1, #head) == head:sub(1, 4) then
     if #head >= 5 and head:byte(5) == INVALID_ID then
       return nil
     end
@@ -207,7 +248,7 @@ local function classify(buf, pos, avail, hint)
     if total > avail then
       return "partial", avail
     end
-    return "v1", total
+    return hint == FEETECH and "feetech" or "v1", total
   end
   return nil
 end
@@ -217,7 +258,7 @@ end
 local function complete_packet_after(buf, pos, len, hint)
   for p = pos + 1, len - 1 do
     local kind = classify(buf, p, len - p, hint)
-    if kind == "v1" or kind == "v2" then
+    if kind == "v1" or kind == "v2" or kind == "feetech" then
       return true
     end
   end
@@ -246,7 +287,8 @@ local function le(range)
 end
 
 -- Decodes an instruction's parameters under `tree` and returns a short text for the Info column.
-local function instruction_params(tree, p, protocol, instruction)
+-- `protocol` is 1, 2 or FEETECH; `f` the protocol's fields (DYNAMIXEL's or FEETECH's).
+local function instruction_params(tree, p, protocol, instruction, f)
   local n = p and p:len() or 0
   local a = protocol == 2 and 2 or 1 -- address and length fields: 2 bytes in 2.0, 1 in 1.0
   local add = protocol == 2 and tree.add_le or tree.add
@@ -265,7 +307,8 @@ local function instruction_params(tree, p, protocol, instruction)
     tree:add(f.data, p(a, n - a))
     return string.format(" addr=%d len=%d", address, n - a)
   end
-  if (instruction == SYNC_READ or instruction == FAST_SYNC_READ) and n >= 2 * a then
+  if (instruction == SYNC_READ or (instruction == FAST_SYNC_READ and protocol ~= FEETECH)) and
+     n >= 2 * a then
     local address = field(f.address, 0, a)
     local count = field(f.data_length, a, a)
     local ids = {}
@@ -288,7 +331,8 @@ local function instruction_params(tree, p, protocol, instruction)
     end
     return string.format(" addr=%d len=%d ids=%s", address, count, table.concat(ids, ","))
   end
-  if (instruction == BULK_READ or instruction == FAST_BULK_READ or instruction == BULK_WRITE) then
+  if protocol ~= FEETECH and
+     (instruction == BULK_READ or instruction == FAST_BULK_READ or instruction == BULK_WRITE) then
     -- 2.0: ID, address (2), length (2) [, data] per servo; 1.0 Bulk Read: 0x00, then length,
     -- ID, address per servo.
     local ids = {}
@@ -326,8 +370,12 @@ end
 
 -- Adds the error byte of a status (`range`) with its bits.
 local function error_field(tree, range, protocol)
-  local item = tree:add(f.error, range)
-  if protocol == 2 then
+  local item = tree:add(protocol == FEETECH and g.error or f.error, range)
+  if protocol == FEETECH then
+    for _, fld in ipairs({ g.e_overload, g.e_current, g.e_overheat, g.e_angle, g.e_voltage }) do
+      item:add(fld, range)
+    end
+  elseif protocol == 2 then
     item:add(f.alert, range)
     item:add(f.error_number, range)
   else
@@ -358,21 +406,26 @@ local function verify(item, tree, status_field, range, given, expected, expert, 
 end
 
 local function dissect_packet(buf, pos, total, kind, direction, tree)
-  local protocol = kind == "v2" and 2 or 1
+  local protocol = kind == "v2" and 2 or (kind == "feetech" and FEETECH or 1)
+  -- FEETECH's packets have DYNAMIXEL 1.0's layout; only their fields and names differ.
+  local fields = protocol == FEETECH and g or f
+  local names = protocol == FEETECH and feetech_instruction_names or instruction_names
   local is_status = direction == TO_CLIENT
-  local ptree = tree:add(dxl, buf(pos, total))
+  local ptree = tree:add(protocol == FEETECH and feetech or dxl, buf(pos, total))
   local header = protocol == 2 and 4 or 2
-  ptree:add(f.protocol, buf(pos, header), protocol):set_generated()
-  ptree:add(f.type, buf(pos, total), is_status and 1 or 0):set_generated()
-  ptree:add(f.header, buf(pos, header))
+  if protocol ~= FEETECH then
+    ptree:add(f.protocol, buf(pos, header), protocol):set_generated()
+  end
+  ptree:add(fields.type, buf(pos, total), is_status and 1 or 0):set_generated()
+  ptree:add(fields.header, buf(pos, header))
   local id = buf(pos + header, 1):uint()
-  ptree:add(f.id, buf(pos + header, 1))
+  ptree:add(fields.id, buf(pos + header, 1))
   local check_size = protocol == 2 and 2 or 1
   local body = pos + header + 1 + (protocol == 2 and 2 or 1) -- the instruction byte
   if protocol == 2 then
     ptree:add_le(f.length, buf(pos + header + 1, 2))
   else
-    ptree:add(f.length, buf(pos + header + 1, 1))
+    ptree:add(fields.length, buf(pos + header + 1, 1))
   end
   local check_at = pos + total - check_size
   local text
@@ -411,7 +464,7 @@ local function dissect_packet(buf, pos, total, kind, direction, tree)
       end
     elseif p then
       local ptree2 = ptree:add(f.params, p)
-      text = text .. instruction_params(ptree2, p, 2, instruction)
+      text = text .. instruction_params(ptree2, p, 2, instruction, f)
     end
     local range = buf(check_at, 2)
     text = text .. verify(ptree:add_le(f.crc, range), ptree, f.crc_status, range, range:le_uint(),
@@ -419,29 +472,30 @@ local function dissect_packet(buf, pos, total, kind, direction, tree)
   else
     local count = check_at - body - 1
     if is_status then
-      local err = error_field(ptree, buf(body, 1), 1)
+      local err = error_field(ptree, buf(body, 1), protocol)
       text = string.format("%s id=%d err=0x%02x", role, id, err)
       if count > 0 then
-        ptree:add(f.params, buf(body + 1, count))
+        ptree:add(fields.params, buf(body + 1, count))
         text = text .. string.format(" params=%d bytes", count)
       end
     else
       local instruction = buf(body, 1):uint()
-      ptree:add(f.instruction, buf(body, 1))
-      text = string.format("%s id=%d %s", role, id, instruction_names[instruction]
+      ptree:add(fields.instruction, buf(body, 1))
+      text = string.format("%s id=%d %s", role, id, names[instruction]
                            or string.format("0x%02x", instruction))
       if count > 0 then
         local p = buf(body + 1, count)
-        local ptree2 = ptree:add(f.params, p)
-        text = text .. instruction_params(ptree2, p, 1, instruction)
+        local ptree2 = ptree:add(fields.params, p)
+        text = text .. instruction_params(ptree2, p, protocol, instruction, fields)
       end
     end
     local range = buf(check_at, 1)
-    text = text .. verify(ptree:add(f.checksum, range), ptree, f.checksum_status, range,
+    text = text .. verify(ptree:add(fields.checksum, range), ptree, fields.checksum_status, range,
                           range:uint(), checksum1(buf:raw(pos + header, check_at - pos - header)),
                           ef.bad_checksum, "checksum", "%02x")
   end
-  ptree:append_text(string.format(" %s.0, %s", protocol, text))
+  ptree:append_text(protocol == FEETECH and ", " .. text
+                    or string.format(" %s.0, %s", protocol, text))
   return text
 end
 
@@ -502,7 +556,9 @@ function capture.dissector(buf, pinfo, tree)
     end
   end
   flush_garbage(len)
-  if protocols.v1 and not protocols.v2 then
+  if protocols.feetech then
+    pinfo.cols.protocol = "FEETECH"
+  elseif protocols.v1 and not protocols.v2 then
     pinfo.cols.protocol = "DXL 1.0"
   elseif protocols.v2 and not protocols.v1 then
     pinfo.cols.protocol = "DXL 2.0"

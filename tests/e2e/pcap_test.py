@@ -21,6 +21,7 @@ from dxl_client import Daemon, Port, crc16, packet1, packet2
 PING, READ, WRITE, SYNC_READ, FAST_SYNC_READ, STATUS = 0x01, 0x02, 0x03, 0x82, 0x8A, 0x55
 PRESENT_POSITION, GOAL_POSITION = 132, 116
 TO_SERVOS, TO_CLIENT = 0, 1
+FEETECH = 0x46  # the pseudo-header's protocol byte of a FEETECH port
 LUA = Path(__file__).resolve().parents[2] / "scripts" / "dxlemu.lua"
 TSHARK = shutil.which("tshark")
 
@@ -224,6 +225,46 @@ class DissectorTest(unittest.TestCase):
         self.assertEqual(rows[1][:5], [["254"], ["0x55"], ["0x00"],
                                        [reply[9:-2].hex()], ["1"]])
         self.assertIn("Fast Sync/Bulk Read reply", rows[1][6][0])
+
+    def test_feetech_records_decode_as_feetech_packets(self):
+        # protocol-ft-scs.md 4.7: Sync Read of 8 bytes at 0x38 from IDs 1 and 2, and the replies.
+        request = bytes.fromhex("ff ff fe 06 82 38 08 01 02 36")
+        replies = bytes.fromhex("ff ff 01 0a 00 00 08 00 00 00 00 79 1e 55"
+                                "ff ff 02 0a 00 ff 07 00 00 00 00 77 23 53")
+        rows = self.decode([(TO_SERVOS, FEETECH, 1, request), (TO_CLIENT, FEETECH, 1, replies)],
+                           "dxlemu.protocol", "feetech.id", "feetech.instruction",
+                           "feetech.address", "feetech.data_length", "feetech.target_id",
+                           "feetech.error", "feetech.checksum.status", "dxl.id",
+                           "_ws.col.Protocol", "_ws.col.Info")
+        self.assertEqual(rows[0][:9], [["70"], ["254"], ["0x82"], ["56"], ["8"], ["1", "2"], [],
+                                       ["1"], []])
+        self.assertEqual(rows[0][9], ["FEETECH"])
+        self.assertIn("Instruction id=254 Sync Read addr=56 len=8 ids=1,2", rows[0][10][0])
+        self.assertEqual(rows[1][1:2] + rows[1][6:8], [["1", "2"], ["0x00", "0x00"], ["1", "1"]])
+
+    def test_feetech_names_status_bits_id_253_and_a_bad_checksum(self):
+        # ID 253 (0xFD) is a FEETECH unicast ID, not the start of a 2.0 header there.
+        ping_253 = packet1(0xFD, PING)
+        restart = packet1(1, 0x08)
+        status_reset = packet1(1, 0x0A)
+        hot_overloaded = packet1(1, 0x24)  # a status: error byte overheat | overload
+        bad = bytearray(packet1(2, READ, bytes([56, 2])))
+        bad[-1] ^= 0x01
+        rows = self.decode([(TO_SERVOS, FEETECH, 0, ping_253 + restart + status_reset),
+                            (TO_CLIENT, FEETECH, 0, hot_overloaded),
+                            (TO_SERVOS, FEETECH, 0, bytes(bad))],
+                           "feetech.id", "feetech.instruction", "feetech.error",
+                           "feetech.error.overheat", "feetech.error.overload",
+                           "feetech.error.current", "feetech.checksum.status", "dxl.garbage",
+                           "_ws.col.Info", "_ws.expert.message")
+        self.assertEqual(rows[0][:2], [["253", "1", "1"], ["0x01", "0x08", "0x0a"]])
+        self.assertEqual(rows[0][7], [])
+        self.assertIn("Instruction id=1 Restart", rows[0][8][0])
+        self.assertIn("Instruction id=1 Status Reset", rows[0][8][0])
+        self.assertEqual(rows[1][2:6], [["0x24"], ["1"], ["1"], ["0"]])
+        self.assertEqual(rows[1][9], ["Status error 0x24"])
+        self.assertEqual(rows[2][6], ["0"])
+        self.assertTrue(rows[2][9][0].startswith("Bad checksum"))
 
     def test_an_incomplete_packet_at_the_end_is_flagged(self):
         rows = self.decode([(TO_SERVOS, 2, 0, packet2(1, PING) + packet2(2, PING)[:6])],
