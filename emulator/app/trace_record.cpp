@@ -16,8 +16,12 @@ JsonLine record(const std::string& port, sim::SimTime at, const char* direction,
   JsonLine out;
   out.real("t", static_cast<double>(sim::ns_since_start(at)) / kNsPerSecond)
       .text("port", port)
-      .text("dir", direction)
-      .integer("protocol", static_cast<int>(protocol));
+      .text("dir", direction);
+  if (const int number = wire::protocol_number(protocol); number != 0) {
+    out.integer("protocol", number);
+  } else {
+    out.text("protocol", wire::protocol_name(protocol));
+  }
   return out;
 }
 

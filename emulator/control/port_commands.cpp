@@ -23,12 +23,20 @@ constexpr std::array<SummaryItem, 5> kSummaryItems = {{
     {"moving", "moving", true},
 }};
 
+// DYNAMIXEL's protocols by number (1, 2), FEETECH's by name ("feetech"), as traces write them.
+ordered_json protocol_json(wire::Protocol protocol) {
+  if (const int number = wire::protocol_number(protocol); number != 0) {
+    return number;
+  }
+  return wire::protocol_name(protocol);
+}
+
 ordered_json servo_summary(const model::Servo& servo) {
   const auto protocol = servo.protocol();
   ordered_json out = {
       {"id", servo.id()},
       {"model", servo.spec().name},
-      {"protocol", protocol ? ordered_json(static_cast<int>(*protocol)) : ordered_json(nullptr)},
+      {"protocol", protocol ? protocol_json(*protocol) : ordered_json(nullptr)},
       {"baud", servo.baud_bps()},
   };
   for (const SummaryItem& summary : kSummaryItems) {

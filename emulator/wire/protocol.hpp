@@ -37,6 +37,13 @@ constexpr std::string_view protocol_title(Protocol protocol) {
   return "unknown protocol";
 }
 
+/// The protocol's number where it has one: DYNAMIXEL's 1 and 2 (as the Protocol Type item and
+/// the JSON of traces, configs and the control API write them); 0 for FEETECH, which JSON names
+/// "feetech" (protocol_name) instead.
+constexpr int protocol_number(Protocol protocol) {
+  return protocol == Protocol::Feetech ? 0 : static_cast<int>(protocol);
+}
+
 /// True for the protocols laid out like Protocol 1.0: header FF FF, one-byte LENGTH, one-byte
 /// checksum, no stuffing, one-byte address and length fields, the error byte of a status packet
 /// in the instruction position. FEETECH's FT-SCS frame is the 1.0 frame (protocol-ft-scs.md 2, 3).

@@ -68,3 +68,18 @@ TEST_CASE("A reply sent is traced decoded, colliding bytes are traced as a probl
   CHECK(parsed(app::sent_record("dxl0", v1, sim::SimTime{}, wire::Protocol::V1))["packet"] ==
         "id=5 error=0x20");
 }
+
+TEST_CASE("FEETECH packets are traced with the protocol named, both ways", "[app][trace]") {
+  // FEETECH's Sync Read example (protocol-ft-scs.md 4.7) and a status of ID 1.
+  const std::vector<std::uint8_t> sync_read = {0xFF, 0xFF, 0xFE, 0x06, 0x82,
+                                               0x38, 0x08, 0x01, 0x02, 0x36};
+  const auto heard = nlohmann::json::parse(
+      app::heard_record("arm", frame_of(sync_read, wire::Protocol::Feetech, sim::SimTime{})));
+  CHECK(heard["protocol"] == "feetech");
+  CHECK(heard["packet"] == "id=254 sync_read address=56 length=8 ids=1 2");
+  const auto status = wire::encode_status({wire::Protocol::Feetech, 1, 0x04, {0x00, 0x08}});
+  const auto sent = nlohmann::json::parse(
+      app::sent_record("arm", status, sim::SimTime{}, wire::Protocol::Feetech));
+  CHECK(sent["protocol"] == "feetech");
+  CHECK(sent["dir"] == "out");
+}

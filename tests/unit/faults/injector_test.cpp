@@ -146,6 +146,8 @@ TEST_CASE("Wire damage: a broken check, flipped bits, a new ID with a valid chec
   const std::vector<std::uint8_t> v2 =
       wire::encode_status({wire::Protocol::V2, 1, 0, {0x06, 0x04, 0x26}});
   const std::vector<std::uint8_t> v1 = wire::encode_status({wire::Protocol::V1, 1, 0, {0x20}});
+  const std::vector<std::uint8_t> feetech =
+      wire::encode_status({wire::Protocol::Feetech, 1, 0, {0x00, 0x08}});
   const auto heard = [](const std::vector<std::uint8_t>& bytes, wire::Protocol protocol) {
     wire::Framer framer(protocol);
     std::vector<wire::FramerEvent> events;
@@ -155,7 +157,8 @@ TEST_CASE("Wire damage: a broken check, flipped bits, a new ID with a valid chec
   };
 
   for (const auto& [packet, protocol] :
-       {std::pair{v2, wire::Protocol::V2}, std::pair{v1, wire::Protocol::V1}}) {
+       {std::pair{v2, wire::Protocol::V2}, std::pair{v1, wire::Protocol::V1},
+        std::pair{feetech, wire::Protocol::Feetech}}) {
     auto broken = packet;
     faults::break_check(broken);
     const auto event = heard(broken, protocol);
