@@ -16,8 +16,10 @@ bool matches(const Match& match, const PacketFacts& facts) {
       })) {
     return false;
   }
-  if (!match.instructions.empty() && std::find(match.instructions.begin(), match.instructions.end(),
-                                               facts.instruction) == match.instructions.end()) {
+  if (!match.instructions.empty() &&
+      std::find(match.instructions.begin(), match.instructions.end(),
+                wire::instruction_name(facts.protocol, facts.instruction)) ==
+          match.instructions.end()) {
     return false;
   }
   if (match.address) {

@@ -27,6 +27,8 @@ struct PacketFacts {
   /// The control-table addresses it reads or writes, first and last, when it has any.
   std::optional<std::pair<std::uint16_t, std::uint16_t>> span;
   sim::SimTime at{};  ///< when its last byte crossed the line
+  /// The port's protocol: what the instruction byte means (DYNAMIXEL's and FEETECH's codes differ).
+  wire::Protocol protocol = wire::Protocol::V2;
 };
 
 /// What happens to an instruction on its way to the servos (and back to the client, for echo).

@@ -37,7 +37,7 @@ bool PortFaults::available(std::size_t servo, sim::SimTime at) const {
 
 PacketFacts PortFaults::facts(const HeardPacket& packet, std::vector<std::uint8_t> ids,
                               sim::SimTime at) const {
-  PacketFacts f{port_, packet.instruction, std::move(ids), std::nullopt, at};
+  PacketFacts f{port_, packet.instruction, std::move(ids), std::nullopt, at, packet.protocol};
   if (packet.decoded != nullptr) {
     f.span =
         span_of(*packet.decoded, f.ids.size() == 1 ? std::optional(f.ids.front()) : std::nullopt);

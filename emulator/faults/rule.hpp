@@ -50,7 +50,9 @@ constexpr bool is_state_fault(Action action) {
 struct Match {
   std::optional<std::string> port;   ///< the port's name in the config ("dxl0")
   std::vector<std::uint8_t> servos;  ///< servo IDs (the IDs they have when the packet arrives)
-  std::vector<std::uint8_t> instructions;  ///< instruction bytes (wire::InstructionCode)
+  /// Instruction names (wire::instruction_name): a packet matches by the name its instruction
+  /// byte has in the port's protocol.
+  std::vector<std::string> instructions;
   /// Control table addresses, both inclusive: matches an instruction whose data overlaps them.
   std::optional<std::pair<std::uint16_t, std::uint16_t>> address;
 };

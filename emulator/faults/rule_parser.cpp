@@ -86,25 +86,32 @@ std::vector<std::pair<const json*, std::string>> one_or_many(const json& value,
   return out;
 }
 
-std::optional<std::uint8_t> instruction_named(std::string_view name) {
-  for (int code = 0; code <= 0xFF; ++code) {
-    const auto byte = static_cast<std::uint8_t>(code);
-    if (code != wire::to_byte(wire::InstructionCode::Status) &&
-        wire::instruction_name(byte) == name) {
-      return byte;
+// Every instruction name a rule may match, DYNAMIXEL's then FEETECH's own, each once: the
+// names of every byte in either protocol but the 2.0 status marker.
+std::vector<std::string_view> known_instruction_names() {
+  std::vector<std::string_view> names;
+  for (const wire::Protocol protocol : {wire::Protocol::V2, wire::Protocol::Feetech}) {
+    for (int code = 0; code <= 0xFF; ++code) {
+      const auto byte = static_cast<std::uint8_t>(code);
+      const std::string_view name = wire::instruction_name(protocol, byte);
+      if (name != "unknown" && code != wire::to_byte(wire::InstructionCode::Status) &&
+          std::find(names.begin(), names.end(), name) == names.end()) {
+        names.push_back(name);
+      }
     }
   }
-  return std::nullopt;
+  return names;
+}
+
+bool is_instruction_name(std::string_view name) {
+  const auto names = known_instruction_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 std::string instruction_names() {
   std::string out;
-  for (int code = 0; code <= 0xFF; ++code) {
-    const auto byte = static_cast<std::uint8_t>(code);
-    const std::string_view name = wire::instruction_name(byte);
-    if (name != "unknown" && code != wire::to_byte(wire::InstructionCode::Status)) {
-      out += (out.empty() ? "" : ", ") + std::string(name);
-    }
+  for (const std::string_view name : known_instruction_names()) {
+    out += (out.empty() ? "" : ", ") + std::string(name);
   }
   return out;
 }
@@ -128,12 +135,10 @@ Match parse_match(const json& value) {
       }
     } else if (key == "instruction") {
       for (const auto& [name, p] : one_or_many(v, pointer)) {
-        const auto code =
-            name->is_string() ? instruction_named(name->get<std::string>()) : std::nullopt;
-        if (!code) {
+        if (!name->is_string() || !is_instruction_name(name->get<std::string>())) {
           throw RuleError(p, "must be an instruction name: " + instruction_names());
         }
-        match.instructions.push_back(*code);
+        match.instructions.push_back(name->get<std::string>());
       }
     } else if (key == "address") {
       if (v.is_array()) {
@@ -321,8 +326,8 @@ ordered_json rule_json(const Rule& rule) {
   }
   if (!rule.match.instructions.empty()) {
     ordered_json names = ordered_json::array();
-    for (const std::uint8_t code : rule.match.instructions) {
-      names.push_back(wire::instruction_name(code));
+    for (const std::string& name : rule.match.instructions) {
+      names.push_back(name);
     }
     match["instruction"] = names;
   }

@@ -96,6 +96,25 @@ TEST_CASE("A rule matches on port, servos, instruction and overlapping addresses
   CHECK(faults::matches(m, group));
 }
 
+TEST_CASE("An instruction name matches by what the byte means in the port's protocol", "[faults]") {
+  const faults::Match reset =
+      rule(R"({"action":"drop_reply","match":{"instruction":"factory_reset"}})").match;
+  const faults::Match status_reset =
+      rule(R"({"action":"drop_reply","match":{"instruction":"status_reset"}})").match;
+  PacketFacts dynamixel = read_from(1);
+  dynamixel.instruction = 0x06;  // DYNAMIXEL's Factory Reset
+  PacketFacts feetech = dynamixel;
+  feetech.protocol = wire::Protocol::Feetech;  // FEETECH's Parameter Recovery
+  CHECK(faults::matches(reset, dynamixel));
+  CHECK_FALSE(faults::matches(reset, feetech));
+  feetech.instruction = 0x0A;  // FEETECH's Status Reset; no DYNAMIXEL instruction
+  dynamixel.instruction = 0x0A;
+  CHECK(faults::matches(status_reset, feetech));
+  CHECK_FALSE(faults::matches(status_reset, dynamixel));
+  CHECK_THROWS_WITH(rule(R"({"action":"drop_reply","match":{"instruction":"restart_all"}})"),
+                    Catch::Contains("parameter_recovery") && Catch::Contains("fast_bulk_read"));
+}
+
 TEST_CASE("A time window counts from when the rule was added", "[faults]") {
   faults::Injector injector(1);
   const sim::SimTime added = sim::SimTime{} + 100ms;

@@ -66,7 +66,7 @@ TEST_CASE("A rule reads its members into the right fields", "[faults]") {
   CHECK(r.action == faults::Action::DropReply);
   CHECK(r.match.port == "dxl0");
   CHECK(r.match.servos == std::vector<std::uint8_t>{3, 4});
-  CHECK(r.match.instructions == std::vector<std::uint8_t>{0x02});
+  CHECK(r.match.instructions == std::vector<std::string>{"read"});
   CHECK(r.match.address == std::pair<std::uint16_t, std::uint16_t>{132, 132});
   CHECK(r.trigger.probability == 0.25);
   CHECK(r.trigger.count == 10U);
