@@ -126,72 +126,67 @@ local hf = {
 }
 capture.fields = { hf.version, hf.direction, hf.protocol, hf.port }
 
-local f = {
-  protocol = ProtoField.uint8("dxl.protocol", "Protocol", base.DEC, { [1] = "1.0", [2] = "2.0" }),
-  type = ProtoField.uint8("dxl.packet_type", "Packet type", base.DEC, { [0] = "Instruction", [1] = "Status" }),
-  header = ProtoField.bytes("dxl.header", "Header"),
-  id = ProtoField.uint8("dxl.id", "Packet ID", base.DEC),
-  length = ProtoField.uint16("dxl.length", "Length", base.DEC),
-  instruction = ProtoField.uint8("dxl.instruction", "Instruction", base.HEX, instruction_names),
-  error = ProtoField.uint8("dxl.error", "Error", base.HEX),
-  alert = ProtoField.bool("dxl.error.alert", "Alert (hardware error)", 8, nil, 0x80),
-  error_number = ProtoField.uint8("dxl.error.number", "Error number", base.DEC, error_numbers, 0x7F),
-  -- protocol1.md "Status Packet": one bit per error.
-  e1_instruction = ProtoField.bool("dxl.error.instruction", "Instruction Error", 8, nil, 0x40),
-  e1_overload = ProtoField.bool("dxl.error.overload", "Overload Error", 8, nil, 0x20),
-  e1_checksum = ProtoField.bool("dxl.error.checksum", "Checksum Error", 8, nil, 0x10),
-  e1_range = ProtoField.bool("dxl.error.range", "Range Error", 8, nil, 0x08),
-  e1_overheating = ProtoField.bool("dxl.error.overheating", "Overheating Error", 8, nil, 0x04),
-  e1_angle = ProtoField.bool("dxl.error.angle_limit", "Angle Limit Error", 8, nil, 0x02),
-  e1_voltage = ProtoField.bool("dxl.error.input_voltage", "Input Voltage Error", 8, nil, 0x01),
-  params = ProtoField.bytes("dxl.params", "Parameters"),
-  address = ProtoField.uint16("dxl.address", "Address", base.DEC),
-  data_length = ProtoField.uint16("dxl.data_length", "Data length", base.DEC),
-  data = ProtoField.bytes("dxl.data", "Data"),
-  target_id = ProtoField.uint8("dxl.target_id", "Target ID", base.DEC),
-  crc = ProtoField.uint16("dxl.crc", "CRC", base.HEX),
-  crc_status = ProtoField.uint8("dxl.crc.status", "CRC status", base.DEC, checksum_status),
-  checksum = ProtoField.uint8("dxl.checksum", "Checksum", base.HEX),
-  checksum_status = ProtoField.uint8("dxl.checksum.status", "Checksum status", base.DEC,
-                                     checksum_status),
-  garbage = ProtoField.bytes("dxl.garbage", "Bytes outside any packet"),
-  truncated = ProtoField.bytes("dxl.truncated", "Incomplete packet"),
-}
-dxl.fields = {}
-for _, field in pairs(f) do
-  dxl.fields[#dxl.fields + 1] = field
+-- The packet fields DYNAMIXEL's and FEETECH's protocols share, under `prefix` ("dxl" or
+-- "feetech"); `wide` gives LENGTH, address and data length two bytes (DYNAMIXEL 2.0's widths).
+local function packet_fields(prefix, wide, names)
+  local number = wide and ProtoField.uint16 or ProtoField.uint8
+  return {
+    type = ProtoField.uint8(prefix .. ".packet_type", "Packet type", base.DEC,
+                            { [0] = "Instruction", [1] = "Status" }),
+    header = ProtoField.bytes(prefix .. ".header", "Header"),
+    id = ProtoField.uint8(prefix .. ".id", "Packet ID", base.DEC),
+    length = number(prefix .. ".length", "Length", base.DEC),
+    instruction = ProtoField.uint8(prefix .. ".instruction", "Instruction", base.HEX, names),
+    params = ProtoField.bytes(prefix .. ".params", "Parameters"),
+    address = number(prefix .. ".address", "Address", base.DEC),
+    data_length = number(prefix .. ".data_length", "Data length", base.DEC),
+    data = ProtoField.bytes(prefix .. ".data", "Data"),
+    target_id = ProtoField.uint8(prefix .. ".target_id", "Target ID", base.DEC),
+    checksum = ProtoField.uint8(prefix .. ".checksum", "Checksum", base.HEX),
+    checksum_status = ProtoField.uint8(prefix .. ".checksum.status", "Checksum status", base.DEC,
+                                       checksum_status),
+  }
 end
 
-local feetech = Proto("feetech", "FEETECH")
--- The same fields as DYNAMIXEL's where they mean the same, under feetech.*; the error byte holds
--- FEETECH's servo status bits (the memory tables' "Servo status").
-local g = {
-  type = ProtoField.uint8("feetech.packet_type", "Packet type", base.DEC, { [0] = "Instruction", [1] = "Status" }),
-  header = ProtoField.bytes("feetech.header", "Header"),
-  id = ProtoField.uint8("feetech.id", "Packet ID", base.DEC),
-  length = ProtoField.uint8("feetech.length", "Length", base.DEC),
-  instruction = ProtoField.uint8("feetech.instruction", "Instruction", base.HEX,
-                                 feetech_instruction_names),
-  error = ProtoField.uint8("feetech.error", "Error (servo status)", base.HEX),
-  e_overload = ProtoField.bool("feetech.error.overload", "Overload", 8, nil, 0x20),
-  e_current = ProtoField.bool("feetech.error.current", "Overcurrent", 8, nil, 0x08),
-  e_overheat = ProtoField.bool("feetech.error.overheat", "Overheat", 8, nil, 0x04),
-  e_angle = ProtoField.bool("feetech.error.angle_sensor", "Angle sensor (magnetic encoder)", 8,
-                            nil, 0x02),
-  e_voltage = ProtoField.bool("feetech.error.voltage", "Voltage", 8, nil, 0x01),
-  params = ProtoField.bytes("feetech.params", "Parameters"),
-  address = ProtoField.uint8("feetech.address", "Address", base.DEC),
-  data_length = ProtoField.uint8("feetech.data_length", "Data length", base.DEC),
-  data = ProtoField.bytes("feetech.data", "Data"),
-  target_id = ProtoField.uint8("feetech.target_id", "Target ID", base.DEC),
-  checksum = ProtoField.uint8("feetech.checksum", "Checksum", base.HEX),
-  checksum_status = ProtoField.uint8("feetech.checksum.status", "Checksum status", base.DEC,
-                                     checksum_status),
-}
-feetech.fields = {}
-for _, field in pairs(g) do
-  feetech.fields[#feetech.fields + 1] = field
+-- Registers every field of `fields` with `proto`.
+local function register(proto, fields)
+  proto.fields = {}
+  for _, field in pairs(fields) do
+    proto.fields[#proto.fields + 1] = field
+  end
 end
+
+local f = packet_fields("dxl", true, instruction_names)
+f.protocol = ProtoField.uint8("dxl.protocol", "Protocol", base.DEC, { [1] = "1.0", [2] = "2.0" })
+f.error = ProtoField.uint8("dxl.error", "Error", base.HEX)
+f.alert = ProtoField.bool("dxl.error.alert", "Alert (hardware error)", 8, nil, 0x80)
+f.error_number = ProtoField.uint8("dxl.error.number", "Error number", base.DEC, error_numbers, 0x7F)
+-- protocol1.md "Status Packet": one bit per error.
+f.e1_instruction = ProtoField.bool("dxl.error.instruction", "Instruction Error", 8, nil, 0x40)
+f.e1_overload = ProtoField.bool("dxl.error.overload", "Overload Error", 8, nil, 0x20)
+f.e1_checksum = ProtoField.bool("dxl.error.checksum", "Checksum Error", 8, nil, 0x10)
+f.e1_range = ProtoField.bool("dxl.error.range", "Range Error", 8, nil, 0x08)
+f.e1_overheating = ProtoField.bool("dxl.error.overheating", "Overheating Error", 8, nil, 0x04)
+f.e1_angle = ProtoField.bool("dxl.error.angle_limit", "Angle Limit Error", 8, nil, 0x02)
+f.e1_voltage = ProtoField.bool("dxl.error.input_voltage", "Input Voltage Error", 8, nil, 0x01)
+f.crc = ProtoField.uint16("dxl.crc", "CRC", base.HEX)
+f.crc_status = ProtoField.uint8("dxl.crc.status", "CRC status", base.DEC, checksum_status)
+f.garbage = ProtoField.bytes("dxl.garbage", "Bytes outside any packet")
+f.truncated = ProtoField.bytes("dxl.truncated", "Incomplete packet")
+register(dxl, f)
+
+local feetech = Proto("feetech", "FEETECH")
+-- FEETECH's packets: DYNAMIXEL 1.0's layout; the error byte holds FEETECH's servo status bits
+-- (the memory tables' "Servo status").
+local g = packet_fields("feetech", false, feetech_instruction_names)
+g.error = ProtoField.uint8("feetech.error", "Error (servo status)", base.HEX)
+g.e_overload = ProtoField.bool("feetech.error.overload", "Overload", 8, nil, 0x20)
+g.e_current = ProtoField.bool("feetech.error.current", "Overcurrent", 8, nil, 0x08)
+g.e_overheat = ProtoField.bool("feetech.error.overheat", "Overheat", 8, nil, 0x04)
+g.e_angle = ProtoField.bool("feetech.error.angle_sensor", "Angle sensor (magnetic encoder)", 8,
+                            nil, 0x02)
+g.e_voltage = ProtoField.bool("feetech.error.voltage", "Voltage", 8, nil, 0x01)
+register(feetech, g)
 
 local ef = {
   bad_crc = ProtoExpert.new("dxl.crc.bad", "Bad CRC", expert.group.CHECKSUM, expert.severity.ERROR),
