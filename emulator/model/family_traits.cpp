@@ -181,16 +181,16 @@ constexpr std::int64_t kSmsMinReturnDelay = 50;
 constexpr RefusalBits kFeetechRefusalBits = {
     .checksum = wire::v1_error::kChecksum, .instruction = wire::v1_error::kInstruction, .range = 0};
 
-// STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), and SMS, SCS and HLS like it
-// where their tables agree. The errors show in every status while they last and in Servo status;
-// Unload condition selects the ones that unload the motor (the Protocol 1.0 Alarm Shutdown).
-constexpr FamilyTraits kSts = {.family = Family::Sts,
-                               .name = "sts",
+// SCS/SCSCL, the row the other FEETECH series start from (no Torque switch 128 in its table).
+// The errors show in every status while they last and in Servo status; Unload condition selects
+// the ones that unload the motor (the Protocol 1.0 Alarm Shutdown).
+constexpr FamilyTraits kScs = {.family = Family::Scs,
+                               .name = "scs",
                                .maker = Maker::Feetech,
                                .drive = DriveKind::OperatingMode,
                                .torque_on_goal = TorqueOnGoal::Holds,
                                .error_reaction = ErrorReaction::AlarmShutdown,
-                               .fault_bits = kStsFaultBits,
+                               .fault_bits = kScsFaultBits,
                                .reboot_status = false,
                                .operating_modes = kFeetechModes,
                                .mode_change_resets_goals = false,
@@ -199,10 +199,18 @@ constexpr FamilyTraits kSts = {.family = Family::Sts,
                                .secondary_id_addresses = false,
                                .status_level_all = 1,
                                .status_level_reads = 0,
-                               .calibrate_torque_value = kTorqueCalibrate,
                                .calibrated_position = kMiddlePosition,
                                .lock_flag_keeps_eeprom = true,
                                .refusal_bits = kFeetechRefusalBits};
+
+// STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), with every status bit and Torque
+// switch 128.
+constexpr FamilyTraits kSts = [] {
+  FamilyTraits row = with_name(kScs, Family::Sts, "sts");
+  row.fault_bits = kStsFaultBits;
+  row.calibrate_torque_value = kTorqueCalibrate;
+  return row;
+}();
 
 constexpr FamilyTraits kSms = [] {
   FamilyTraits row = with_name(kSts, Family::Sms, "sms");
@@ -210,18 +218,10 @@ constexpr FamilyTraits kSms = [] {
   return row;
 }();
 
-// SCS/SCSCL: no Torque switch 128 in its table.
-constexpr FamilyTraits kScs = [] {
-  FamilyTraits row = with_name(kSts, Family::Scs, "scs");
-  row.fault_bits = kScsFaultBits;
-  row.calibrate_torque_value = std::nullopt;
-  return row;
-}();
-
+// HLS: no load bit, no Torque switch 128 in its table.
 constexpr FamilyTraits kHls = [] {
-  FamilyTraits row = with_name(kSts, Family::Hls, "hls");
+  FamilyTraits row = with_name(kScs, Family::Hls, "hls");
   row.fault_bits = kHlsFaultBits;
-  row.calibrate_torque_value = std::nullopt;
   return row;
 }();
 

@@ -208,7 +208,7 @@ TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON poi
   }
 }
 
-TEST_CASE("The library loads FEETECH's catalog; model numbers are one maker's",
+TEST_CASE("The library loads FEETECH's catalog, model numbers are one maker's",
           "[app][config][feetech]") {
   for (const std::string name : {"sts3215", "sts3250", "sm8512bl", "scs0009", "hls3625m"}) {
     INFO(name);
@@ -225,7 +225,7 @@ TEST_CASE("The library loads FEETECH's catalog; model numbers are one maker's",
   CHECK(library().select(feetech).size() == 5);
 }
 
-TEST_CASE("A port of FEETECH servos parses; one mixing makers is refused",
+TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",
           "[app][config][feetech]") {
   const auto config = parse(one_port(R"({"model": "sts3215", "ids": [1, 2, 3], "baud": 1000000})"));
   REQUIRE(config.ports[0].servos.size() == 3);

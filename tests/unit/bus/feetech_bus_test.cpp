@@ -222,7 +222,7 @@ TEST_CASE("FEETECH Response level 0 answers READ and PING only", "[bus][feetech]
   CHECK(rig.link.deliveries().size() == 3);
 }
 
-TEST_CASE("FEETECH REG WRITE sets the Async write flag; ACTION applies it and clears it",
+TEST_CASE("FEETECH REG WRITE sets the Async write flag, ACTION applies it and clears it",
           "[bus][feetech]") {
   BusRig rig;
   sts_bus(rig, 2);
@@ -259,7 +259,7 @@ TEST_CASE("FEETECH Restart sends no status and the servo is silent for its 1800 
   CHECK(rig.link.deliveries().size() == 1);
 }
 
-TEST_CASE("Return delay: 2 us units; SMS counts a value below 50 as 50; HLS has none",
+TEST_CASE("Return delay in 2 us units, SMS counts a value below 50 as 50, HLS has none",
           "[bus][feetech][timing]") {
   const auto reply_after = [](const std::string& model, std::optional<std::int64_t> delay) {
     BusRig rig;

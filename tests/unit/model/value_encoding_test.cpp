@@ -330,7 +330,7 @@ TEST_CASE("refusal_bits: FEETECH models only, never a bit FEETECH defines",
         model::RefusalBits{.checksum = 0x10, .instruction = 0x40, .range = 0x80});
 }
 
-TEST_CASE("A FEETECH model may lack return_delay_time; a DYNAMIXEL one may not",
+TEST_CASE("A FEETECH model may lack return_delay_time, a DYNAMIXEL one may not",
           "[model][loader][feetech]") {
   json j = feetech_style("little");
   auto& items = j["items"];
