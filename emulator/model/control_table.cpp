@@ -430,7 +430,10 @@ void ControlTable::set(std::size_t item, std::int64_t value) {
     ++eeprom_changes_;
   }
   encode(spec, value, std::span(image_).subspan(spec.address, spec.size));
-  keep_if_allowed(item, eeprom_keep_ && eeprom_keep_());
+  // Only EEPROM items ask the lock: set() runs for every Present value on every tick.
+  if (eeprom_keep_ && spec.area == Area::Eeprom) {
+    keep_if_allowed(item, eeprom_keep_());
+  }
 }
 
 void ControlTable::set(std::string_view key, std::int64_t value) {
@@ -445,7 +448,9 @@ void ControlTable::copy_from(std::size_t item, std::span<const std::uint8_t> ima
     ++eeprom_changes_;
   }
   std::copy(from.begin(), from.end(), image_.begin() + spec.address);
-  keep_if_allowed(item, eeprom_keep_ && eeprom_keep_());
+  if (eeprom_keep_ && spec.area == Area::Eeprom) {
+    keep_if_allowed(item, eeprom_keep_());
+  }
 }
 
 std::size_t ControlTable::index(std::string_view key) const {

@@ -326,6 +326,32 @@ TEST_CASE("An STS3215 moves to its goal: Present = Actual - Position offset",
   CHECK(servo.table().get("moving_flag") == 0);
 }
 
+TEST_CASE("STS Operating mode 1 turns at Running speed, 2 drives open-loop PWM, 3 holds",
+          "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{33, {1}});                 // constant speed (wheel)
+  ask(rig, 1, wire::Write{46, le16(0x8000 | 300)});  // -300 steps/s (sign bit 15)
+  ask(rig, 1, wire::Write{40, {1}});
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_speed") + 300) <= 3);
+  CHECK(servo.table().get("moving_flag") == 1);
+  ask(rig, 1, wire::Write{33, {2}});  // PWM open loop
+  ask(rig, 1, wire::Write{44, le16(500)});
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("present_speed") > 0);
+  ask(rig, 1, wire::Write{33, {3}});  // step: not modelled, the motor holds still
+  rig.run(1s);
+  rig.bus.catch_up();
+  const std::int64_t held = servo.table().get("present_position");
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("present_position") == held);
+}
+
 TEST_CASE("STS Torque switch 128 calibrates Present Position to 2048", "[bus][feetech][motion]") {
   BusRig rig;
   sts_bus(rig, 1);
