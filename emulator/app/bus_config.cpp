@@ -165,6 +165,18 @@ class ConfigParser {
         port.servos.push_back(std::move(servo));
       }
     }
+    if (const auto other = other_maker_servo(port, library_)) {
+      // The entry of "servos" the offending servo came from: entries with "ids" make several.
+      std::size_t entry = 0;
+      for (std::size_t i = 0, made = 0; i < servos.size(); ++i) {
+        made += servos[i].contains("ids") ? servos[i]["ids"].size() : 1;
+        if (*other < made) {
+          entry = i;
+          break;
+        }
+      }
+      fail(at + "/servos/" + std::to_string(entry), other_maker_reason(port, *other, library_));
+    }
     return port;
   }
 
@@ -300,6 +312,40 @@ std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::M
     throw std::invalid_argument(spec.name + " cannot speak protocol " + std::to_string(protocol));
   }
   return std::nullopt;
+}
+
+std::optional<std::size_t> other_maker_servo(const PortConfig& port, const ModelLibrary& library) {
+  std::optional<model::Maker> maker;
+  for (std::size_t i = 0; i < port.servos.size(); ++i) {
+    const auto spec = library.find(port.servos[i].model);
+    if (!spec) {
+      continue;
+    }
+    if (!maker) {
+      maker = spec->maker();
+    } else if (spec->maker() != *maker) {
+      return i;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string other_maker_reason(const PortConfig& port, std::size_t index,
+                               const ModelLibrary& library) {
+  const auto spec = library.find(port.servos.at(index).model);
+  std::string first;
+  for (const ServoConfig& servo : port.servos) {
+    if (const auto s = library.find(servo.model); s && s->maker() != spec->maker()) {
+      first = s->name;
+      break;
+    }
+  }
+  return spec->name + " is a " + std::string(model::maker_name(spec->maker())) + " model, but " +
+         first + " on the same port is " +
+         std::string(model::maker_name(spec->maker() == model::Maker::Feetech
+                                           ? model::Maker::Robotis
+                                           : model::Maker::Feetech)) +
+         ": a port speaks one maker's protocol (put them on separate ports)";
 }
 
 void check_servo(const ServoConfig& servo, const ModelLibrary& library) {

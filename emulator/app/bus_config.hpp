@@ -87,4 +87,14 @@ std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::M
 /// servos built from command-line options; parse_config checks the same with JSON pointers).
 void check_servo(const ServoConfig& servo, const ModelLibrary& library);
 
+/// Checks that every servo of `port` is one maker's: a port speaks DYNAMIXEL's protocols or
+/// FEETECH's, never both (docs/feetech.md "One maker per port"). Returns the index of the first
+/// servo of another maker than the first servo's, or nullopt; unknown models are skipped
+/// (check_servo names them).
+std::optional<std::size_t> other_maker_servo(const PortConfig& port, const ModelLibrary& library);
+
+/// The reason other_maker_servo() refuses servo `index` of `port`, for an error message.
+std::string other_maker_reason(const PortConfig& port, std::size_t index,
+                               const ModelLibrary& library);
+
 }  // namespace dxlemu::app

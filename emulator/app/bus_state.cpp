@@ -28,8 +28,9 @@ ServoState capture_state(const model::ControlTable& table) {
   for (std::size_t i = 0; i < table.spec().items.size(); ++i) {
     const model::ItemSpec& item = table.spec().items[i];
     if (kept(item)) {
-      state.eeprom.emplace_back(
-          item.key, item.area == model::Area::Hybrid ? table.hybrid_saved(i) : table.get(i));
+      // What a power cycle would bring back: Hybrid items' saved values, FEETECH EEPROM items'
+      // last value written while the Lock flag was 0.
+      state.eeprom.emplace_back(item.key, table.kept_value(i));
     }
   }
   return state;
@@ -42,9 +43,11 @@ std::vector<std::uint8_t> eeprom_image(const model::ControlTable& table) {
     const model::ItemSpec& item = table.spec().items[i];
     if (item.area == model::Area::Eeprom) {
       out.insert(out.end(), bytes.begin() + item.address, bytes.begin() + item.address + item.size);
-    } else if (item.area == model::Area::Hybrid) {
-      // The saved value, not the present one: unsaved Hybrid writes are lost at power-off.
-      const auto saved = static_cast<std::uint64_t>(table.hybrid_saved(i));
+    }
+    if (item.area == model::Area::Hybrid || item.area == model::Area::Eeprom) {
+      // The kept value too: unsaved Hybrid writes and FEETECH EEPROM writes made while locked
+      // are lost at power-off.
+      const auto saved = static_cast<std::uint64_t>(table.kept_value(i));
       for (int b = 0; b < 8; ++b) {
         out.push_back(static_cast<std::uint8_t>(saved >> (8 * b)));
       }
@@ -72,11 +75,7 @@ void restore_state(model::ControlTable& table, const ServoState& state, const st
   }
   for (const auto& [key, value] : state.eeprom) {
     const std::size_t item = table.index(key);
-    if (table.spec().items[item].area == model::Area::Hybrid) {
-      table.restore_hybrid(item, value);
-    } else {
-      table.set(item, value);
-    }
+    table.restore_kept(item, value);
   }
 }
 

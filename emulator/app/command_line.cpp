@@ -43,8 +43,10 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
             return model::family_from_name(name) ? std::string() : unknown_family(name);
           },
           "FAMILY"));
-  models->add_option("--protocol", filters.protocol, "Only the models that can speak 1.0 or 2.0")
-      ->check(CLI::IsMember({1, 2}));
+  models
+      ->add_option("--protocol", filters.protocol,
+                   "Only the models that can speak this protocol: 1, 2 (DYNAMIXEL) or feetech")
+      ->check(CLI::IsMember({"1", "2", "feetech"}));
   models->add_option("--name", filters.name,
                      "Only the models whose name or title contains TEXT, ignoring case");
   models->footer(
@@ -236,7 +238,9 @@ ModelFilter model_filter(const ModelsArguments& models) {
     }
   }
   if (models.protocol) {
-    filter.protocol = *models.protocol == 1 ? wire::Protocol::V1 : wire::Protocol::V2;
+    filter.protocol = *models.protocol == "1"   ? wire::Protocol::V1
+                      : *models.protocol == "2" ? wire::Protocol::V2
+                                                : wire::Protocol::Feetech;
   }
   filter.name_fragment = models.name;
   return filter;

@@ -23,9 +23,9 @@ struct CtlArguments {
 
 /// `dxlemu models`' filters, as given (README.md "Running the emulator").
 struct ModelsArguments {
-  std::string family;           ///< --family; empty: any
-  std::optional<int> protocol;  ///< --protocol
-  std::string name;             ///< --name, a fragment of the name or title; empty: any
+  std::string family;                   ///< --family; empty: any
+  std::optional<std::string> protocol;  ///< --protocol: "1", "2" or "feetech"
+  std::string name;                     ///< --name, a fragment of the name or title; empty: any
 };
 
 /// Everything the command line can say, as parsed: the defaults until then.

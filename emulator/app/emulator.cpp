@@ -64,6 +64,10 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     for (const ServoConfig& servo : port_config.servos) {
       check_servo(servo, library);
     }
+    if (const auto other = other_maker_servo(port_config, library)) {
+      throw std::invalid_argument("port " + port_config.name + ": " +
+                                  other_maker_reason(port_config, *other, library));
+    }
   }
   const BusState state = options_.state ? read_state(*options_.state) : BusState{};
   if (options_.trace) {
@@ -131,7 +135,14 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       model::Servo& added = port->bus->add_servo(
           std::make_unique<model::Servo>(library.find(servo.model), servo.id, options.tick));
       for (const auto& [key, value] : servo.items) {
-        added.table().set(key, value);
+        // Written before the emulator started: an EEPROM value is kept over power cycles even
+        // where a FEETECH Lock flag of 1 would lose a bus write.
+        const std::size_t item = added.table().index(key);
+        if (added.spec().items[item].area == model::Area::Eeprom) {
+          added.table().restore_kept(item, value);
+        } else {
+          added.table().set(item, value);
+        }
       }
     }
     // One observer feeds the trace file, the capture and the control API's trace subscribers,

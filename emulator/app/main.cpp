@@ -265,7 +265,7 @@ std::string filters_text(const dxlemu::app::ModelsArguments& models) {
     out += " --family " + models.family;
   }
   if (models.protocol) {
-    out += " --protocol " + std::to_string(*models.protocol);
+    out += " --protocol " + *models.protocol;
   }
   if (!models.name.empty()) {
     out += " --name " + models.name;

@@ -39,10 +39,9 @@ std::shared_ptr<const model::ModelSpec> load_file(const fs::path& path) {
 
 }  // namespace
 
-ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
-                                const std::vector<fs::path>& extra_dirs) {
-  ModelLibrary library;
-  const fs::path catalog_path = shipped_dir / "catalog.json";
+// A catalog.json of `dir`: its models, each file relative to `dir`.
+void ModelLibrary::load_catalog(const fs::path& dir) {
+  const fs::path catalog_path = dir / "catalog.json";
   nlohmann::json catalog;
   try {
     catalog = nlohmann::json::parse(read_file(catalog_path));
@@ -59,8 +58,25 @@ ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
       throw model::ModelError(catalog_path.string(), "/models/" + std::to_string(i) + "/file",
                               "must be a string");
     }
-    const fs::path file = shipped_dir / entry["file"].get<std::string>();
-    library.add(load_file(file), file.string());
+    const fs::path file = dir / entry["file"].get<std::string>();
+    add(load_file(file), file.string());
+  }
+}
+
+ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
+                                const std::vector<fs::path>& extra_dirs) {
+  ModelLibrary library;
+  // DYNAMIXEL's catalog, then another maker's in each folder with its own (models/feetech/).
+  library.load_catalog(shipped_dir);
+  std::vector<fs::path> maker_dirs;
+  for (const auto& f : fs::directory_iterator(shipped_dir)) {
+    if (f.is_directory() && fs::is_regular_file(f.path() / "catalog.json")) {
+      maker_dirs.push_back(f.path());
+    }
+  }
+  std::sort(maker_dirs.begin(), maker_dirs.end());  // deterministic: directory order is not
+  for (const fs::path& dir : maker_dirs) {
+    library.load_catalog(dir);
   }
   for (const fs::path& dir : extra_dirs) {
     if (!fs::is_directory(dir)) {
@@ -94,7 +110,8 @@ void ModelLibrary::add(std::shared_ptr<const model::ModelSpec> spec, const std::
   for (const auto& [name, other] : models_) {
     const bool declared =
         spec->shares_model_number_with == name || other->shares_model_number_with == spec->name;
-    if (other->model_number == spec->model_number && !declared) {
+    // Model numbers are one maker's: FEETECH's 777 says nothing of a DYNAMIXEL 777.
+    if (other->model_number == spec->model_number && other->maker() == spec->maker() && !declared) {
       throw model::ModelError(origin, "/model_number",
                               "model number " + std::to_string(spec->model_number) +
                                   " is already used by " + name + " (" + origins_.at(name) +
@@ -156,10 +173,11 @@ std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::variants_of(
   return out;
 }
 
-std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number) const {
+std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number,
+                                                           model::Maker maker) const {
   std::shared_ptr<const model::ModelSpec> sharing;
   for (const auto& [name, spec] : models_) {
-    if (spec->model_number == number) {
+    if (spec->model_number == number && spec->maker() == maker) {
       if (spec->shares_model_number_with.empty()) {
         return spec;
       }

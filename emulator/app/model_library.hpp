@@ -28,7 +28,8 @@ struct ModelFilter {
 /// one of the same name. Loading is all or nothing: a bad file throws model::ModelError naming it.
 class ModelLibrary {
  public:
-  /// Loads the shipped catalog in `shipped_dir`, then every *.json file of each `extra_dirs`
+  /// Loads the shipped catalog in `shipped_dir` and those of its maker folders (each subdirectory
+  /// with a catalog.json, e.g. feetech/), then every *.json file of each `extra_dirs`
   /// directory (catalog.json excepted). Throws model::ModelError for a bad file or directory, and
   /// for two models that claim the same model number.
   static ModelLibrary load(const std::filesystem::path& shipped_dir,
@@ -43,9 +44,9 @@ class ModelLibrary {
   /// The firmware variants of the model `name` ("xl330-m288@52"...), by version, highest first;
   /// empty for a model with one firmware.
   std::vector<std::shared_ptr<const model::ModelSpec>> variants_of(const std::string& name) const;
-  /// The model whose Model Number is `number` (of models sharing one, the one that declares no
-  /// shares_model_number_with), or nullptr.
-  std::shared_ptr<const model::ModelSpec> find(std::uint16_t number) const;
+  /// The model of `maker` whose Model Number is `number` (of models sharing one, the one that
+  /// declares no shares_model_number_with), or nullptr. Model numbers are unique per maker only.
+  std::shared_ptr<const model::ModelSpec> find(std::uint16_t number, model::Maker maker) const;
   /// All models, by name.
   const std::map<std::string, std::shared_ptr<const model::ModelSpec>>& models() const {
     return models_;
@@ -55,6 +56,7 @@ class ModelLibrary {
 
  private:
   void add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin);
+  void load_catalog(const std::filesystem::path& dir);
 
   std::map<std::string, std::shared_ptr<const model::ModelSpec>> models_;
   std::map<std::string, std::string> origins_;

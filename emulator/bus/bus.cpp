@@ -77,17 +77,18 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
   client_bps_ = client_bps;
   stats_.bytes_in += bytes.size();
   drop_pending_replies();
-  // Each protocol's framer hears the line when a servo speaks that protocol (mixed buses). The
+  // Each protocol's framer hears the line when a servo speaks that protocol (mixed DYNAMIXEL
+  // buses; a port of FEETECH servos has only those, app/bus_config refuses a mix). The
   // bytes of one write follow each other on the line, a byte time apart.
   std::vector<SimTime> times(bytes.size());
   for (std::size_t i = 0; i < times.size(); ++i) {
     times[i] = at + line_time(i, client_bps_);
   }
-  // Both framers' events go in the order their first bytes were on the line (the in-write
+  // The framers' events go in the order their first bytes were on the line (the in-write
   // collision rule depends on it): by position in this write, negative when the bytes came in an
   // earlier one.
   std::vector<std::pair<std::int64_t, wire::FramerEvent>> heard;
-  for (wire::Framer* framer : {&v1_framer_, &v2_framer_}) {
+  for (wire::Framer* framer : {&v1_framer_, &v2_framer_, &feetech_framer_}) {
     const wire::Protocol protocol = framer->format().protocol;
     if (std::none_of(stations_.begin(), stations_.end(),
                      [&](const auto& s) { return s->servo->protocol() == protocol; })) {
@@ -134,7 +135,7 @@ void Bus::schedule_expiry() {
     expiry_.reset();
   }
   std::optional<SimTime> deadline;
-  for (const wire::Framer* f : {&v1_framer_, &v2_framer_}) {
+  for (const wire::Framer* f : {&v1_framer_, &v2_framer_, &feetech_framer_}) {
     if (const auto d = f->deadline(); d && (!deadline || *d < *deadline)) {
       deadline = d;
     }
@@ -147,6 +148,7 @@ void Bus::schedule_expiry() {
     std::vector<wire::FramerEvent> events;
     v1_framer_.expire(scheduler_.now(), events);
     v2_framer_.expire(scheduler_.now(), events);
+    feetech_framer_.expire(scheduler_.now(), events);
     // A packet found only when the partial one before it timed out is acted on now: its reply
     // is modelled from the expiry, not from when its bytes came (which would make it late by
     // the whole timeout).

@@ -42,7 +42,7 @@ Bus::Packet Bus::arrival(wire::Protocol protocol, std::uint8_t id, std::uint8_t 
 
 std::vector<std::uint8_t> Bus::fault_ids(const Packet& packet) {
   const faults::HeardPacket& heard = packet.heard;
-  if (heard.decoded != nullptr && is_group_instruction(heard.instruction)) {
+  if (heard.decoded != nullptr && is_group_instruction(heard.protocol, heard.instruction)) {
     return faults::listed_ids(*heard.decoded);
   }
   if (heard.id != wire::kBroadcastId) {
@@ -117,7 +117,8 @@ void Bus::on_frame(const wire::Frame& frame) {
     ++stats_.decode_errors;
     // Group instructions are only heard from 0xFE and never answered there; a malformed one is
     // ignored like a well-formed one sent to a single ID.
-    if (frame.id != wire::kBroadcastId && !is_group_instruction(frame.instruction)) {
+    if (frame.id != wire::kBroadcastId &&
+        !is_group_instruction(frame.protocol, frame.instruction)) {
       refuse(packet, *error);
     }
     return;

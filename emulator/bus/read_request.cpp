@@ -33,8 +33,13 @@ ReadRequest read_request(const wire::InstructionPacket& packet) {
   return out;
 }
 
-bool is_group_instruction(std::uint8_t code) {
+bool is_group_instruction(wire::Protocol protocol, std::uint8_t code) {
   using wire::InstructionCode;
+  if (protocol == wire::Protocol::Feetech) {
+    using wire::FeetechInstructionCode;
+    return code == wire::to_byte(FeetechInstructionCode::SyncRead) ||
+           code == wire::to_byte(FeetechInstructionCode::SyncWrite);
+  }
   for (const auto group :
        {InstructionCode::SyncRead, InstructionCode::SyncWrite, InstructionCode::FastSyncRead,
         InstructionCode::BulkRead, InstructionCode::BulkWrite, InstructionCode::FastBulkRead}) {

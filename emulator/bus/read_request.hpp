@@ -27,8 +27,9 @@ struct ReadRequest {
 /// The read `packet` asks for; empty slots when it is not a group read.
 ReadRequest read_request(const wire::InstructionPacket& packet);
 
-/// True for the instruction bytes of Sync/Bulk Read/Write and their Fast forms, which are only
-/// heard from the broadcast ID and list the devices they address.
-bool is_group_instruction(std::uint8_t code);
+/// True for the instruction bytes of `protocol` that are only heard from the broadcast ID and list
+/// the devices they address: DYNAMIXEL's Sync/Bulk Read/Write and their Fast forms, FEETECH's
+/// SYNC READ (0x82) and SYNC WRITE (0x83).
+bool is_group_instruction(wire::Protocol protocol, std::uint8_t code);
 
 }  // namespace dxlemu::bus

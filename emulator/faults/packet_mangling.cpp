@@ -34,7 +34,7 @@ void flip_bits(std::vector<std::uint8_t>& bytes, std::uint32_t bits, sim::Random
 
 void set_id(std::vector<std::uint8_t>& packet, wire::Protocol protocol, std::uint8_t id) {
   if (wire::has_v1_layout(protocol)) {
-    // FF FF ID LEN ERR PARAM... CHECKSUM
+    // FF FF ID LEN ERR PARAM... CHECKSUM (1.0 and FEETECH)
     if (packet.size() < 6) {
       return;
     }

@@ -52,6 +52,17 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
 }
 
 void ControlTable::load_initial(bool eeprom) {
+  if (!eeprom && eeprom_keep_) {
+    // FEETECH: EEPROM writes made while the Lock flag was 1 are lost at power-off (first: RAM
+    // items may start from EEPROM ones).
+    for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+      if (spec_->items[i].area == Area::Eeprom && get(i) != eeprom_kept_[i]) {
+        ++eeprom_changes_;
+        encode(spec_->items[i], eeprom_kept_[i],
+               std::span(image_).subspan(spec_->items[i].address, spec_->items[i].size));
+      }
+    }
+  }
   // Items that copy another item's value at power-on (AX Torque Limit = Max Torque) read the
   // value that item has now, so they go second.
   for (const bool copies : {false, true}) {
@@ -61,6 +72,9 @@ void ControlTable::load_initial(bool eeprom) {
         continue;
       }
       const std::int64_t initial = item.initial_from ? get(*item.initial_from) : item.initial;
+      if (item.area == Area::Eeprom && eeprom_keep_) {
+        eeprom_kept_[i] = initial;  // a factory reset: the initial values are what is kept
+      }
       if (item.area == Area::Hybrid) {
         // _includes/en/dxl/y/control_table_170_hybrid_save.md (ROBOTIS-GIT/emanual): unsaved
         // Hybrid values are lost at reboot or power-off; a factory reset restores the initial.
@@ -72,6 +86,39 @@ void ControlTable::load_initial(bool eeprom) {
       }
       set(i, initial);
     }
+  }
+}
+
+void ControlTable::set_eeprom_keep(EepromKeep keep) {
+  eeprom_keep_ = std::move(keep);
+  eeprom_kept_.assign(spec_->items.size(), 0);
+  for (std::size_t i = 0; i < spec_->items.size(); ++i) {
+    eeprom_kept_[i] = get(i);
+  }
+}
+
+std::int64_t ControlTable::kept_value(std::size_t item) const {
+  const ItemSpec& spec = spec_->items.at(item);
+  if (spec.area == Area::Hybrid) {
+    return hybrid_saved_[item];
+  }
+  return spec.area == Area::Eeprom && eeprom_keep_ ? eeprom_kept_[item] : get(item);
+}
+
+void ControlTable::restore_kept(std::size_t item, std::int64_t value) {
+  if (spec_->items.at(item).area == Area::Hybrid) {
+    restore_hybrid(item, value);
+    return;
+  }
+  set(item, value);
+  if (eeprom_keep_ && spec_->items[item].area == Area::Eeprom) {
+    eeprom_kept_[item] = value;
+  }
+}
+
+void ControlTable::keep_if_allowed(std::size_t item, bool keep) {
+  if (eeprom_keep_ && keep && spec_->items[item].area == Area::Eeprom) {
+    eeprom_kept_[item] = get(item);
   }
 }
 
@@ -303,6 +350,8 @@ TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::
   if (!result.ok()) {
     return result;
   }
+  // Whether this write is kept over power-off is decided by the lock as the write arrives.
+  const bool keep = !eeprom_keep_ || eeprom_keep_();
   std::vector<std::int64_t> old_values;
   old_values.reserve(touched.size());
   for (const Touched& t : touched) {
@@ -312,6 +361,7 @@ TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::
     if (item.area == Area::Eeprom && get(t.item) != old_values.back()) {
       ++eeprom_changes_;
     }
+    keep_if_allowed(t.item, keep);
   }
   for (std::size_t i = 0; i < touched.size(); ++i) {
     const std::size_t item = touched[i].item;
@@ -380,6 +430,10 @@ void ControlTable::set(std::size_t item, std::int64_t value) {
     ++eeprom_changes_;
   }
   encode(spec, value, std::span(image_).subspan(spec.address, spec.size));
+  // Only EEPROM items ask the lock: set() runs for every Present value on every tick.
+  if (eeprom_keep_ && spec.area == Area::Eeprom) {
+    keep_if_allowed(item, eeprom_keep_());
+  }
 }
 
 void ControlTable::set(std::string_view key, std::int64_t value) {
@@ -394,6 +448,9 @@ void ControlTable::copy_from(std::size_t item, std::span<const std::uint8_t> ima
     ++eeprom_changes_;
   }
   std::copy(from.begin(), from.end(), image_.begin() + spec.address);
+  if (eeprom_keep_ && spec.area == Area::Eeprom) {
+    keep_if_allowed(item, eeprom_keep_());
+  }
 }
 
 std::size_t ControlTable::index(std::string_view key) const {

@@ -30,6 +30,8 @@ class ControlTable {
   using Validator = std::function<TableResult(std::size_t item, std::int64_t new_value)>;
   /// Says whether EEPROM items are locked now; replaces the family's rule (2XL430: both axes).
   using EepromLock = std::function<bool()>;
+  /// Says whether an EEPROM change made now is kept over power-off (FEETECH: Lock flag 0).
+  using EepromKeep = std::function<bool()>;
   /// The range an item accepts now when it depends on a mode (Goal Position in Extended Position
   /// Control Mode); nullopt keeps the item's static range and limit items.
   using RangeRule = std::function<std::optional<ItemRange>(std::size_t item)>;
@@ -57,6 +59,19 @@ class ControlTable {
 
   /// Device side: Hybrid item `item` holds `value`, saved (a state file restored at start).
   void restore_hybrid(std::size_t item, std::int64_t value);
+
+  /// From now on an EEPROM change is kept over power-off only while `keep` says so; a reboot
+  /// (load_initial(false)) brings every EEPROM item back to its last kept value. Without it,
+  /// every EEPROM change is kept (DYNAMIXEL).
+  void set_eeprom_keep(EepromKeep keep);
+
+  /// The value item `item` has after a power cycle: a Hybrid item's saved value, an EEPROM
+  /// item's last kept one (set_eeprom_keep), else its present value. What a state file keeps.
+  std::int64_t kept_value(std::size_t item) const;
+
+  /// Device side: EEPROM or Hybrid item `item` holds `value`, kept over power-off (a state file
+  /// restored at start).
+  void restore_kept(std::size_t item, std::int64_t value);
 
   /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
   /// and a read may start or end inside an item; a read past the end of the table is an Access
@@ -143,6 +158,8 @@ class ControlTable {
   std::vector<Touched> plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
                                   TableResult& result) const;
   TableResult validate(const std::vector<Touched>& touched, wire::Protocol protocol) const;
+  /// Records EEPROM item `item`'s present value as kept when `keep` (with set_eeprom_keep).
+  void keep_if_allowed(std::size_t item, bool keep);
   TableResult check_static_range(const ItemSpec& item, std::int64_t value,
                                  const std::vector<Touched>& touched) const;
   std::optional<std::uint16_t> resolve(std::uint16_t address) const;
@@ -153,6 +170,8 @@ class ControlTable {
   std::shared_ptr<const ModelSpec> spec_;
   std::vector<std::uint8_t> image_;
   std::vector<std::int64_t> hybrid_saved_;  // item -> saved value (Hybrid items only)
+  EepromKeep eeprom_keep_;                  // empty: every EEPROM change is kept
+  std::vector<std::int64_t> eeprom_kept_;   // item -> kept value (EEPROM, with eeprom_keep_)
   std::vector<int> item_at_;                // address -> item index, -1 for reserved bytes
   std::vector<int> indirect_address_;       // address -> item index of its Indirect Address, or -1
   std::vector<std::vector<ReadHook>> read_hooks_;

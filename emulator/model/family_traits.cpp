@@ -142,8 +142,91 @@ constexpr FamilyTraits kXl320 = {.family = Family::Xl320,
                                  .error_reaction = ErrorReaction::LatchedShutdown,
                                  .fault_bits = kXl320FaultBits};
 
+// FEETECH's Servo status bits (address 65, the status packet's ERROR byte) as the wiki lists them
+// per series (feetech/README.md "Status packet"): STS and SMS use bits 0, 1, 2, 3, 5; SCSCL has
+// no magnetic encoder or current bit; HLS has no load bit. The current bit reports what dxlemu
+// calls an electrical shock (an overcurrent).
+constexpr FaultBits kStsFaultBits = {.input_voltage = wire::feetech_error::kVoltage,
+                                     .overheating = wire::feetech_error::kOverheat,
+                                     .overload = wire::feetech_error::kOverload,
+                                     .electrical_shock = wire::feetech_error::kOverCurrent,
+                                     .encoder = wire::feetech_error::kAngleSensor};
+constexpr FaultBits kScsFaultBits = {.input_voltage = wire::feetech_error::kVoltage,
+                                     .overheating = wire::feetech_error::kOverheat,
+                                     .overload = wire::feetech_error::kOverload};
+constexpr FaultBits kHlsFaultBits = {.input_voltage = wire::feetech_error::kVoltage,
+                                     .overheating = wire::feetech_error::kOverheat,
+                                     .electrical_shock = wire::feetech_error::kOverCurrent,
+                                     .encoder = wire::feetech_error::kAngleSensor};
+
+// FEETECH Operating mode (address 33): 0 position, 1 constant speed (wheel), 2 PWM open loop,
+// 3 step (not modelled: no source says how a step goal moves).
+constexpr OperatingModeValues kFeetechModes = {.current = std::nullopt,
+                                               .velocity = 1,
+                                               .position = 0,
+                                               .extended = std::nullopt,
+                                               .current_position = std::nullopt,
+                                               .pwm = 2};
+
+// Torque switch 128 "calibrate the current position to 2048" (STS and SMS tables).
+constexpr std::int64_t kTorqueCalibrate = 128;
+constexpr std::int64_t kMiddlePosition = 2048;
+// SMS Response return delay: "a setting below 50 still defaults to 50 (100us)".
+constexpr std::int64_t kSmsMinReturnDelay = 50;
+
+// The bits a FEETECH servo sets for the refusals FEETECH leaves undefined: Protocol 1.0's
+// Checksum (0x10) and Instruction (0x40) bits, which FEETECH leaves free. Its Range (0x08) and
+// Angle Limit (0x02) bits are FEETECH's current and angle sensor bits, so a refused write sets
+// no bit (docs/feetech.md "Refusals").
+constexpr RefusalBits kFeetechRefusalBits = {
+    .checksum = wire::v1_error::kChecksum, .instruction = wire::v1_error::kInstruction, .range = 0};
+
+// SCS/SCSCL, the row the other FEETECH series start from (no Torque switch 128 in its table).
+// The errors show in every status while they last and in Servo status; Unload condition selects
+// the ones that unload the motor (the Protocol 1.0 Alarm Shutdown).
+constexpr FamilyTraits kScs = {.family = Family::Scs,
+                               .name = "scs",
+                               .maker = Maker::Feetech,
+                               .drive = DriveKind::OperatingMode,
+                               .torque_on_goal = TorqueOnGoal::Holds,
+                               .error_reaction = ErrorReaction::AlarmShutdown,
+                               .fault_bits = kScsFaultBits,
+                               .reboot_status = false,
+                               .operating_modes = kFeetechModes,
+                               .mode_change_resets_goals = false,
+                               .torque_limit_caps_torque = true,
+                               .homing_offset_subtracts = true,
+                               .secondary_id_addresses = false,
+                               .status_level_all = 1,
+                               .status_level_reads = 0,
+                               .calibrated_position = kMiddlePosition,
+                               .lock_flag_keeps_eeprom = true,
+                               .refusal_bits = kFeetechRefusalBits};
+
+// STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), with every status bit and Torque
+// switch 128.
+constexpr FamilyTraits kSts = [] {
+  FamilyTraits row = with_name(kScs, Family::Sts, "sts");
+  row.fault_bits = kStsFaultBits;
+  row.calibrate_torque_value = kTorqueCalibrate;
+  return row;
+}();
+
+constexpr FamilyTraits kSms = [] {
+  FamilyTraits row = with_name(kSts, Family::Sms, "sms");
+  row.min_return_delay = kSmsMinReturnDelay;
+  return row;
+}();
+
+// HLS: no load bit, no Torque switch 128 in its table.
+constexpr FamilyTraits kHls = [] {
+  FamilyTraits row = with_name(kScs, Family::Hls, "hls");
+  row.fault_bits = kHlsFaultBits;
+  return row;
+}();
+
 // In the order of `Family`: traits_of() indexes it.
-constexpr std::array<FamilyTraits, 12> kFamilies = {
+constexpr std::array<FamilyTraits, 16> kFamilies = {
     kX,
     kMx2,
     kMx1,
@@ -156,6 +239,10 @@ constexpr std::array<FamilyTraits, 12> kFamilies = {
     with_name(kAx, Family::Dx, "dx"),
     kProA,
     kY,
+    kSts,
+    kSms,
+    kScs,
+    kHls,
 };
 
 constexpr bool rows_in_family_order() {

@@ -11,7 +11,16 @@ namespace dxlemu::model {
 
 /// Behaviour family: which rules of the e-Manual a model follows beyond its control table. Each
 /// family is one row of the traits table (family_traits.cpp), in this order.
-enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro, Dx, ProA, Y };
+enum class Family { X, Mx2, Mx1, Ax, Rx, Ex, Xl320, P, Pro, Dx, ProA, Y, Sts, Sms, Scs, Hls };
+
+/// Who makes a family's servos. A bus port speaks one maker's protocol, and model numbers are
+/// unique only within one maker's models (docs/feetech.md "One maker per port").
+enum class Maker { Robotis, Feetech };
+
+/// The name of a maker in messages: "ROBOTIS" or "FEETECH".
+constexpr std::string_view maker_name(Maker maker) {
+  return maker == Maker::Feetech ? "FEETECH" : "ROBOTIS";
+}
 
 /// How a family's goal items select a control mode and move the motor, and how the motor shows
 /// in its Present motion items: one implementation of model/drive.hpp each.
@@ -89,6 +98,28 @@ struct FaultBits {
   std::uint8_t hall_sensor = 0;       ///< Motor Hall Sensor Error
 };
 
+/// The Operating Mode value that selects each control mode; nullopt: the family has no such mode
+/// (or the emulator does not model it). DYNAMIXEL's values by default
+/// (includes/control_table_opmode_six_2.md).
+struct OperatingModeValues {
+  std::optional<std::int64_t> current = 0;           ///< current (torque) control
+  std::optional<std::int64_t> velocity = 1;          ///< velocity (wheel) control
+  std::optional<std::int64_t> position = 3;          ///< position control within one turn
+  std::optional<std::int64_t> extended = 4;          ///< extended (multi-turn) position control
+  std::optional<std::int64_t> current_position = 5;  ///< current-based position control
+  std::optional<std::int64_t> pwm = 16;              ///< PWM (open loop) control
+};
+
+/// The status error bits a FEETECH servo sets when it refuses a packet, where FEETECH defines
+/// none (docs/feetech.md "Refusals"); 0: no bit, the refusal shows only in what did not change.
+/// A model file may replace them (`"refusal_bits"`).
+struct RefusalBits {
+  std::uint8_t checksum = 0;     ///< a packet with a wrong checksum sent to the servo's ID
+  std::uint8_t instruction = 0;  ///< an unknown instruction, or Action with nothing registered
+  std::uint8_t range = 0;        ///< a write or read the control table refuses, a bad length
+  bool operator==(const RefusalBits&) const = default;
+};
+
 /// The Error Code(153) value of each hardware error (ErrorReaction::ErrorCode); 0: the family
 /// cannot report it.
 struct ErrorCodes {
@@ -112,6 +143,8 @@ struct FamilyTraits {
   Family family = Family::X;
   /// The family's name in model files (`"family": "x"`).
   std::string_view name = {};
+  /// Who makes it.
+  Maker maker = Maker::Robotis;
   /// How the goal items move the motor and the Present motion items show it.
   DriveKind drive = DriveKind::OperatingMode;
   /// In joint mode Goal Position must lie between CW and CCW Angle Limit, else Angle Limit
@@ -154,6 +187,40 @@ struct FamilyTraits {
   FastRead fast_read = FastRead::None;
   /// Executes the Protocol 1.0 Bulk Read (protocol1.md: MX, MX(2.0), X).
   bool v1_bulk_read = false;
+  /// Answers Reboot with a status before it reboots; FEETECH's Restart sends none
+  /// (protocol-ft-scs.md: "status frame: none").
+  bool reboot_status = true;
+  /// The Operating Mode value of each control mode.
+  OperatingModeValues operating_modes = {};
+  /// A change of Operating Mode zeroes the profile and resets the goal limits
+  /// (includes/control_table_opmode_six_2.md); FEETECH says nothing of it.
+  bool mode_change_resets_goals = true;
+  /// Torque Limit caps the motor's torque in 0.1 % of its stall torque under Operating Mode
+  /// control (FEETECH Torque limit, 48); the JointWheel families read it anyway.
+  bool torque_limit_caps_torque = false;
+  /// Present Position is the shaft position minus the homing offset item (FEETECH's Position
+  /// offset, as LeRobot states it); otherwise plus it (DYNAMIXEL's Homing Offset).
+  bool homing_offset_subtracts = false;
+  /// A Secondary ID item is a group address (DYNAMIXEL's Shadow ID, docs/servo.md); FEETECH's
+  /// HLS Secondary ID has no documented meaning and addresses nothing here.
+  bool secondary_id_addresses = true;
+  /// The status levels of the status return item: at `status_level_all` the servo answers
+  /// everything, at `status_level_reads` Ping and Read only, below that Ping only. DYNAMIXEL
+  /// Status Return Level 2 / 1; FEETECH Response level 1 / 0.
+  std::int64_t status_level_all = 2;
+  std::int64_t status_level_reads = 1;
+  /// Return delay item values below this count as this (SMS: "a setting below 50 still
+  /// defaults to 50").
+  std::int64_t min_return_delay = 0;
+  /// Writing this value to the torque item calibrates Present Position to `calibrated_position`
+  /// (STS and SMS Torque switch 128); nullopt: no such value.
+  std::optional<std::int64_t> calibrate_torque_value = std::nullopt;
+  std::int64_t calibrated_position = 0;
+  /// The Lock flag item (FEETECH's `lock_flag`) decides whether EEPROM writes survive power-off:
+  /// those made while it is 1 are lost (docs/feetech.md "Lock"). It never refuses a write.
+  bool lock_flag_keeps_eeprom = false;
+  /// The FEETECH status bits of refusals (FEETECH families only).
+  RefusalBits refusal_bits = {};
 };
 
 /// The Protocol 1.0 error bits of the hardware errors (protocol1.md "Error"), which are also the

@@ -15,7 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<std::string_view, 22> kModelFields = {"$schema",
+constexpr std::array<std::string_view, 23> kModelFields = {"$schema",
                                                            "name",
                                                            "title",
                                                            "model_number",
@@ -36,6 +36,7 @@ constexpr std::array<std::string_view, 22> kModelFields = {"$schema",
                                                            "shared_items",
                                                            "source",
                                                            "notes",
+                                                           "refusal_bits",
                                                            "items"};
 constexpr std::array<std::string_view, 17> kItemFields = {
     "key",     "name",         "address",   "size",     "access", "area",
@@ -48,6 +49,7 @@ constexpr std::array<std::string_view, 9> kMotionFields = {
     "degrees_per_pulse", "velocity_unit_rpm",      "current_unit_ma",
     "no_load_speed_rpm", "stall_torque_nm",        "nominal_voltage_v",
     "stall_current_a",   "acceleration_unit_rpm2", "current_zero"};
+constexpr std::array<std::string_view, 3> kRefusalFields = {"checksum", "instruction", "range"};
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 constexpr std::array<std::string_view, 3> kVariantFields = {"firmware_version", "indirect",
                                                             "notes"};
@@ -82,9 +84,49 @@ std::uint8_t read_sign_bit(const JsonNode& n, const ItemSpec& s) {
 // wire::Protocol, so that a new protocol is one more case here (and in the schema).
 wire::Protocol read_protocol(const JsonNode& n) {
   if (n.is_string()) {
-    n.fail("unknown protocol \"" + n.string() + "\" (known: 1, 2)");
+    if (n.string() == wire::protocol_name(wire::Protocol::Feetech)) {
+      return wire::Protocol::Feetech;
+    }
+    n.fail("unknown protocol \"" + n.string() + "\" (known: 1, 2, \"feetech\")");
   }
   return static_cast<wire::Protocol>(n.integer(1, 2));
+}
+
+// A FEETECH family speaks FEETECH's protocol only, a ROBOTIS family DYNAMIXEL's only: the
+// family's rules (status bits, response levels) are one maker's.
+void check_protocols_of_maker(const JsonNode& protocols, const ModelSpec& spec) {
+  const bool feetech_family = spec.maker() == Maker::Feetech;
+  for (std::size_t i = 0; i < spec.protocols.size(); ++i) {
+    if ((spec.protocols[i] == wire::Protocol::Feetech) != feetech_family) {
+      protocols.at(i).fail("a model of the " + std::string(maker_name(spec.maker())) +
+                           " family \"" + std::string(family_name(spec.family)) +
+                           "\" cannot speak " +
+                           std::string(wire::protocol_title(spec.protocols[i])));
+    }
+  }
+}
+
+// FEETECH defines the status bits 0, 1, 2, 3 and 5 (voltage, angle sensor, temperature, current,
+// load): a refusal bit may only be one of the others.
+RefusalBits read_refusal_bits(const JsonNode& n, const ModelSpec& spec) {
+  n.expect_object(kRefusalFields);
+  if (spec.maker() != Maker::Feetech) {
+    n.fail("is a setting of FEETECH models only");
+  }
+  auto bits = [&](const char* key, std::uint8_t fallback) {
+    if (!n.has(key)) {
+      return fallback;
+    }
+    const JsonNode b = n.child(key);
+    const auto value = static_cast<std::uint8_t>(b.integer(0, kU8));
+    if ((value & wire::feetech_error::kDefinedBits) != 0) {
+      b.fail("uses a bit FEETECH defines for a hardware error (1, 2, 4, 8, 32 are taken)");
+    }
+    return value;
+  };
+  const RefusalBits family = spec.traits().refusal_bits;
+  return {bits("checksum", family.checksum), bits("instruction", family.instruction),
+          bits("range", family.range)};
 }
 
 ByteOrder read_byte_order(const JsonNode& n) {
@@ -500,6 +542,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   if (spec.protocols.empty()) {
     protocols.fail("must list at least one protocol");
   }
+  check_protocols_of_maker(protocols, spec);
   spec.default_id = static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::kMaxIdV1));
 
   const JsonNode bauds = root.at("baud_rates");
@@ -555,12 +598,20 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.items = read_items(root.at("items"));
   spec.index_items();
   // Every servo needs these to be on a bus at all: its address, its line speed and its reply
-  // timing (model::Servo reads them when it is built).
+  // timing (model::Servo reads them when it is built). Every DYNAMIXEL table has Return Delay
+  // Time; FEETECH's HLS table has none (its address 7 is the Secondary ID): it answers without.
   for (const std::string key : {"id", "baud_rate", "return_delay_time"}) {
+    if (key == "return_delay_time" && spec.maker() == Maker::Feetech) {
+      continue;
+    }
     if (!spec.find(key)) {
       root.at("items").fail("has no item \"" + key +
-                            "\" (every model needs id, baud_rate and return_delay_time)");
+                            "\" (every model needs id, baud_rate and return_delay_time; a "
+                            "FEETECH model may lack return_delay_time)");
     }
+  }
+  if (root.has("refusal_bits")) {
+    spec.refusal_bits = read_refusal_bits(root.child("refusal_bits"), spec);
   }
 
   if (root.has("indirect")) {

@@ -133,7 +133,8 @@ struct KeyHash {
   std::size_t operator()(std::string_view key) const { return std::hash<std::string_view>{}(key); }
 };
 
-/// Everything the emulator knows about one DYNAMIXEL model, loaded from its model file.
+/// Everything the emulator knows about one model (DYNAMIXEL or FEETECH), loaded from its model
+/// file.
 struct ModelSpec {
   std::string name;   ///< e.g. "xm430-w350": the name used in the CLI, configs and the API
   std::string title;  ///< e.g. "XM430-W350"
@@ -159,12 +160,18 @@ struct ModelSpec {
   std::string source;
   std::vector<std::string> notes;
   std::vector<ItemSpec> items;  ///< in address order
+  /// The model file's `refusal_bits`, replacing its family's (FEETECH models only).
+  std::optional<RefusalBits> refusal_bits;
   /// Key → index into `items`, for find() and index_of(): servos look up dozens of items by key
   /// when they are built. Filled by index_items().
   std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> item_index;
 
   /// What the model's family does beyond its control table (family_traits.hpp).
   const FamilyTraits& traits() const { return traits_of(family); }
+  /// Who makes the model (its family's maker).
+  Maker maker() const { return traits().maker; }
+  /// The status bits of refusals FEETECH leaves undefined: the file's, else the family's.
+  RefusalBits refusals() const { return refusal_bits.value_or(traits().refusal_bits); }
   /// Fills item_index from `items`; call it whenever `items` is set (the loader does).
   void index_items();
   /// The item with `key`, or nullptr.

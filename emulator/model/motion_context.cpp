@@ -27,7 +27,9 @@ double MotionContext::direction() const {
 }
 
 double MotionContext::homing() const {
-  return static_cast<double>(get(items.homing_offset, get(items.multi_turn_offset)));
+  const auto offset = static_cast<double>(get(items.homing_offset, get(items.multi_turn_offset)));
+  // FEETECH: "Present_Position = Actual_Position - Homing_Offset" (LeRobot feetech.py).
+  return traits.homing_offset_subtracts ? -offset : offset;
 }
 
 std::int64_t MotionContext::present_position() const {

@@ -4,20 +4,35 @@
 #include <string>
 
 namespace dxlemu::model {
+namespace {
+
+// The first of `keys` the model has: DYNAMIXEL's key first, then another maker's name for the
+// same item (FEETECH: torque_switch, running_speed, position_offset, ...; docs/feetech.md).
+std::optional<std::size_t> first_of(const ModelSpec& s,
+                                    std::initializer_list<std::string_view> keys) {
+  for (const std::string_view key : keys) {
+    if (const auto i = s.index_of(key)) {
+      return i;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 MotionItems::MotionItems(const ModelSpec& s)
     : operating_mode(s.index_of("operating_mode")),
       control_mode(s.index_of("control_mode")),
       drive_mode(s.index_of("drive_mode")),
-      torque_enable(s.index_of("torque_enable")),
+      torque_enable(first_of(s, {"torque_enable", "torque_switch"})),
       goal_position(s.index_of("goal_position")),
-      goal_velocity(s.index_of("goal_velocity")),
+      goal_velocity(first_of(s, {"goal_velocity", "running_speed"})),
       goal_current(s.index_of("goal_current")),
       goal_torque(s.index_of("goal_torque")),
-      goal_pwm(s.index_of("goal_pwm")),
+      goal_pwm(first_of(s, {"goal_pwm", "pwm_open_loop_speed"})),
       goal_acceleration(s.index_of("goal_acceleration")),
-      profile_velocity(s.index_of("profile_velocity")),
-      profile_acceleration(s.index_of("profile_acceleration")),
+      profile_velocity(first_of(s, {"profile_velocity", "running_speed"})),
+      profile_acceleration(first_of(s, {"profile_acceleration", "acceleration"})),
       moving_speed(s.index_of("moving_speed")),
       profile_time(s.index_of("profile_time")),
       profile_acceleration_time(s.index_of("profile_acceleration_time")),
@@ -25,21 +40,22 @@ MotionItems::MotionItems(const ModelSpec& s)
       current_limit(s.index_of("current_limit")),
       pwm_limit(s.index_of("pwm_limit")),
       velocity_limit(s.index_of("velocity_limit")),
-      homing_offset(s.index_of("homing_offset")),
+      homing_offset(first_of(s, {"homing_offset", "position_offset"})),
       multi_turn_offset(s.index_of("multi_turn_offset")),
       cw_angle_limit(s.index_of("cw_angle_limit")),
       ccw_angle_limit(s.index_of("ccw_angle_limit")),
       moving_threshold(s.index_of("moving_threshold")),
-      min_position_limit(s.index_of("min_position_limit")),
-      max_position_limit(s.index_of("max_position_limit")),
-      temperature_limit(s.index_of("temperature_limit") ? s.index_of("temperature_limit")
-                                                        : s.index_of("motor_temperature_limit")),
-      min_voltage_limit(s.index_of("min_voltage_limit")),
-      max_voltage_limit(s.index_of("max_voltage_limit")),
-      shutdown(s.index_of("shutdown")),
+      min_position_limit(first_of(s, {"min_position_limit", "minimum_angle_limit"})),
+      max_position_limit(first_of(s, {"max_position_limit", "maximum_angle_limit"})),
+      temperature_limit(first_of(
+          s, {"temperature_limit", "motor_temperature_limit", "maximum_temperature_limit"})),
+      min_voltage_limit(first_of(s, {"min_voltage_limit", "minimum_input_voltage"})),
+      max_voltage_limit(first_of(s, {"max_voltage_limit", "maximum_input_voltage"})),
+      shutdown(first_of(s, {"shutdown", "unload_condition"})),
       hardware_error_status(s.index_of("hardware_error_status")),
       error_code(s.index_of("error_code")),
       controller_state(s.index_of("controller_state")),
+      servo_status(s.index_of("servo_status")),
       present_position(s.index_of("present_position")),
       present_velocity(s.index_of("present_velocity")),
       present_speed(s.index_of("present_speed")),
@@ -50,7 +66,7 @@ MotionItems::MotionItems(const ModelSpec& s)
       current(s.index_of("current")),
       velocity_trajectory(s.index_of("velocity_trajectory")),
       position_trajectory(s.index_of("position_trajectory")),
-      moving(s.index_of("moving")),
+      moving(first_of(s, {"moving", "moving_flag"})),
       moving_status(s.index_of("moving_status")),
       present_voltage(s.index_of("present_input_voltage") ? s.index_of("present_input_voltage")
                                                           : s.index_of("present_voltage")),

@@ -27,9 +27,10 @@ struct MotionItems {
       multi_turn_offset, cw_angle_limit, ccw_angle_limit, moving_threshold, min_position_limit,
       max_position_limit;
   // Protection. `temperature_limit` is Motor Temperature Limit where the model has no single one
-  // (DYNAMIXEL-Y); `error_code`, `error_code_history` and `controller_state` are DYNAMIXEL-Y's.
+  // (DYNAMIXEL-Y); `error_code`, `error_code_history` and `controller_state` are DYNAMIXEL-Y's,
+  // `servo_status` FEETECH's (the live error bits of its status packets).
   std::optional<std::size_t> temperature_limit, min_voltage_limit, max_voltage_limit, shutdown,
-      hardware_error_status, error_code, controller_state;
+      hardware_error_status, error_code, controller_state, servo_status;
   /// Error Code History 1, 2, ... (oldest first), as many as the model has.
   std::vector<std::size_t> error_code_history;
   // Present values. `current` is MX 1.0 Current(68), a reading although the page makes it RW.

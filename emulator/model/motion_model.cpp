@@ -51,6 +51,8 @@ MotionModel::~MotionModel() = default;
 void MotionModel::install_hooks() {
   ControlTable& table = motion_.table;
   const MotionItems& items = motion_.items;
+  // By the model's own key: another maker names the item otherwise (FEETECH Torque switch).
+  auto key_of = [&](std::size_t item) { return table.spec().items[item].key; };
   if (items.goal_position) {
     table.on_write("goal_position",
                    [this](std::size_t, std::int64_t, std::int64_t v) { on_goal_position(v); });
@@ -73,7 +75,7 @@ void MotionModel::install_hooks() {
     }
   }
   if (items.torque_enable) {
-    table.on_write("torque_enable",
+    table.on_write(key_of(*items.torque_enable),
                    [this](std::size_t, std::int64_t o, std::int64_t n) { on_torque_enable(o, n); });
   }
   if (items.operating_mode) {
@@ -123,6 +125,13 @@ void MotionModel::on_goal_position(std::int64_t goal) {
 
 void MotionModel::on_torque_enable(std::int64_t old_value, std::int64_t new_value) {
   wake();
+  if (new_value == motion_.traits.calibrate_torque_value) {
+    // STS/SMS Torque switch 128: "calibrate the current position to 2048". The torque stays as
+    // it was (docs/feetech.md).
+    motion_.table.set(*motion_.items.torque_enable, old_value);
+    calibrate_position(motion_.traits.calibrated_position);
+    return;
+  }
   if (old_value == new_value) {
     return;
   }
@@ -151,13 +160,15 @@ void MotionModel::on_operating_mode() {
   wake();
   const MotionItems& items = motion_.items;
   // includes/control_table_opmode_six_2.md: switching mode resets the profile and the limits.
-  motion_.put(items.profile_velocity, 0);
-  motion_.put(items.profile_acceleration, 0);
-  if (items.goal_pwm && items.pwm_limit) {
-    motion_.table.set(*items.goal_pwm, motion_.get(items.pwm_limit));
-  }
-  if (items.goal_current && items.current_limit) {
-    motion_.table.set(*items.goal_current, motion_.get(items.current_limit));
+  if (motion_.traits.mode_change_resets_goals) {
+    motion_.put(items.profile_velocity, 0);
+    motion_.put(items.profile_acceleration, 0);
+    if (items.goal_pwm && items.pwm_limit) {
+      motion_.table.set(*items.goal_pwm, motion_.get(items.pwm_limit));
+    }
+    if (items.goal_current && items.current_limit) {
+      motion_.table.set(*items.goal_current, motion_.get(items.current_limit));
+    }
   }
   if (drive_->mode() == Mode::Position) {
     motion_.wrap_to_one_turn();
@@ -165,6 +176,17 @@ void MotionModel::on_operating_mode() {
   motion_.profile.reset();
   motion_.velocity_demand = 0;
   publish();
+}
+
+void MotionModel::calibrate_position(std::int64_t present) {
+  const auto& offset = motion_.items.homing_offset;
+  if (!offset) {
+    return;
+  }
+  // The offset that makes Present Position read `present` where the shaft is now.
+  const std::int64_t shaft = round_to(motion_.direction() * motion_.motor.state().position);
+  motion_.put(offset, motion_.traits.homing_offset_subtracts ? shaft - present : present - shaft);
+  on_reading_setting();
 }
 
 void MotionModel::on_reading_setting() {

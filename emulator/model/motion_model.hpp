@@ -73,6 +73,10 @@ class MotionModel {
   /// Clear instruction: the position goes back within one turn.
   void clear_turns();
 
+  /// Sets the homing offset item so that Present Position reads `present` where the shaft is
+  /// now (FEETECH Position calibration and Torque switch 128); nothing without that item.
+  void calibrate_position(std::int64_t present);
+
   /// The motor and shaft now.
   const MotorState& motor() const { return motion_.motor.state(); }
   const MotorParams& params() const { return motion_.motor.params(); }

@@ -4,17 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 namespace dxlemu::model {
 namespace {
-
-// Operating Mode values (includes/control_table_opmode_six_2.md).
-constexpr std::int64_t kModeCurrent = 0;
-constexpr std::int64_t kModeVelocity = 1;
-constexpr std::int64_t kModePosition = 3;
-constexpr std::int64_t kModeExtended = 4;
-constexpr std::int64_t kModeCurrentPosition = 5;
-constexpr std::int64_t kModePwm = 16;
 
 // Moving Status bits (includes/control_table_moving_status.md).
 constexpr std::int64_t kInPosition = 0x01;
@@ -40,22 +33,22 @@ class OperatingModeDrive final : public Drive {
   explicit OperatingModeDrive(MotionContext& motion) : motion_(motion) {}
 
   std::optional<Mode> mode() const override {
-    switch (motion_.get(motion_.items.operating_mode)) {
-      case kModeCurrent:
-        return Mode::Current;
-      case kModeVelocity:
-        return Mode::Velocity;
-      case kModePosition:
-        return Mode::Position;
-      case kModeExtended:
-        return Mode::Extended;
-      case kModeCurrentPosition:
-        return Mode::CurrentPosition;
-      case kModePwm:
-        return Mode::Pwm;
-      default:
-        return std::nullopt;
+    // The family's Operating Mode values (FamilyTraits::operating_modes).
+    const std::int64_t value = motion_.get(motion_.items.operating_mode);
+    const OperatingModeValues& v = motion_.traits.operating_modes;
+    const std::pair<std::optional<std::int64_t>, Mode> modes[] = {
+        {v.current, Mode::Current},
+        {v.velocity, Mode::Velocity},
+        {v.position, Mode::Position},
+        {v.extended, Mode::Extended},
+        {v.current_position, Mode::CurrentPosition},
+        {v.pwm, Mode::Pwm}};
+    for (const auto& [mode_value, mode] : modes) {
+      if (mode_value == value) {
+        return mode;
+      }
     }
+    return std::nullopt;
   }
 
   double torque_cap() const override {
@@ -65,6 +58,10 @@ class OperatingModeDrive final : public Drive {
     if (items.current_limit && p.current_unit_a) {
       cap = static_cast<double>(motion_.get(items.current_limit)) * *p.current_unit_a *
             p.torque_constant();
+    }
+    if (motion_.traits.torque_limit_caps_torque && items.torque_limit) {
+      cap = std::min(cap, static_cast<double>(motion_.get(items.torque_limit)) / kLoadFullScale *
+                              p.stall_torque_nm);
     }
     if (mode() == Mode::CurrentPosition && items.goal_current && p.current_unit_a) {
       cap = std::min(cap, std::abs(static_cast<double>(motion_.get(items.goal_current))) *
@@ -94,9 +91,9 @@ class OperatingModeDrive final : public Drive {
       }
       case Mode::Pwm: {
         c.kind = DriveCommand::Kind::Pwm;
-        const double full =
-            items.pwm_limit ? static_cast<double>(motion_.table.spec().items[*items.pwm_limit].max)
-                            : 1.0;
+        // Full duty: PWM Limit's top; FEETECH has no PWM Limit: its goal item's top (1000).
+        const auto& top = items.pwm_limit ? items.pwm_limit : items.goal_pwm;
+        const double full = top ? static_cast<double>(motion_.table.spec().items[*top].max) : 1.0;
         c.duty = motion_.direction() * static_cast<double>(motion_.get(items.goal_pwm)) / full;
         return c;
       }
@@ -193,9 +190,12 @@ class OperatingModeDrive final : public Drive {
     motion_.put(items.present_position, motion_.present_position());
     const std::int64_t velocity = round_to(dir * s.velocity / p.velocity_unit);
     motion_.put(items.present_velocity, velocity);
+    motion_.put(items.present_speed, velocity);  // FEETECH's Present speed
     if (p.current_unit_a) {
       motion_.put(items.present_current, motion_.current_reading(dir * s.current_a));
-    } else {
+    }
+    // MX(2.0) without a current sensor, and FEETECH beside its current: 0.1 % of full torque.
+    if (!p.current_unit_a || items.present_current) {
       motion_.put(items.present_load,
                   round_to(dir * s.torque_nm / p.stall_torque_nm * kLoadFullScale));
     }

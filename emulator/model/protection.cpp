@@ -112,6 +112,8 @@ void Protection::alarm_shutdown(FaultSet active) {
     at_limit_ms_ = 0;
   }
   v1_errors_ = fault_bits(family, active);
+  // FEETECH Servo status (65): the bits its status packets carry.
+  motion_.put(motion_.items.servo_status, v1_errors_);
 }
 
 void Protection::latch(FaultSet active) {

@@ -23,10 +23,11 @@ bool only_reads(const wire::Instruction& instruction) {
 
 using std::chrono::microseconds;
 
-// Status Return Level (includes/control_table_status_return_lv.md): 0 answers Ping only,
-// 1 also Read, 2 everything.
-constexpr std::int64_t kSrlReads = 1;
-constexpr std::int64_t kSrlAll = 2;
+// The instructions only FEETECH defines (servo_feetech.cpp).
+template <class T>
+constexpr bool kIsFeetechOnly =
+    std::is_same_v<T, wire::StatusReset> || std::is_same_v<T, wire::ParameterBackup> ||
+    std::is_same_v<T, wire::ParameterRecovery> || std::is_same_v<T, wire::PositionCalibration>;
 
 // Protocol 1.0 families compute the bit rate of Baud Rate n as 2,000,000 / (n + 1)
 // (includes/control_table_baudrate.md) for values their table does not list.
@@ -64,16 +65,26 @@ Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDur
     : table_(std::move(spec)), motion_(table_, tick) {
   items_.id = table_.index("id");
   items_.baud_rate = table_.index("baud_rate");
-  items_.return_delay_time = table_.index("return_delay_time");
+  items_.return_delay_time = item({"return_delay_time"});
   // MX-64(2.0) and MX-106(2.0) name address 13 "Protocol Version".
   items_.protocol = item({"protocol_type", "protocol_version"});
   // DYNAMIXEL-Y reports its errors in Error Code(153): the status packet's Alert bit follows it.
   items_.hardware_error_status = item({"hardware_error_status", "error_code"});
-  items_.status_return_level = item({"status_return_level"});
-  items_.secondary_id = item({"secondary_id"});
+  // FEETECH: Response level (address 8) and Torque switch (40).
+  items_.status_return_level = item({"status_return_level", "response_status_level"});
+  if (table_.spec().traits().secondary_id_addresses) {
+    items_.secondary_id = item({"secondary_id"});
+  }
   items_.bus_watchdog = item({"bus_watchdog"});
-  items_.torque_enable = item({"torque_enable"});
+  items_.torque_enable = item({"torque_enable", "torque_switch"});
+  items_.registered = item({"registered_instruction", "registered", "async_write_flag"});
   table_.set(items_.id, id);
+  if (const auto lock = item({"lock_flag"});
+      lock && table_.spec().traits().lock_flag_keeps_eeprom) {
+    // FEETECH: "write 0 ... values written to EEPROM addresses persist after power-off; write 1
+    // ... do not persist". The ID given here counts as set at the factory.
+    table_.set_eeprom_keep([this, lock = *lock] { return table_.get(lock) == 0; });
+  }
   commit_deferred();
 }
 
@@ -102,7 +113,11 @@ void Servo::commit_deferred() {
               : spec().traits().protocol1_firmware
                   ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
                   : 0;
-  return_delay_ = microseconds(table_.get(items_.return_delay_time) * spec().return_delay_unit_us);
+  const std::int64_t delay =
+      items_.return_delay_time
+          ? std::max(table_.get(*items_.return_delay_time), spec().traits().min_return_delay)
+          : 0;
+  return_delay_ = microseconds(delay * spec().return_delay_unit_us);
 }
 
 std::uint8_t Servo::error_byte_v2(wire::StatusError error) const {
@@ -120,10 +135,17 @@ std::uint8_t Servo::error_byte(TableError error) const {
   if (protocol_ == wire::Protocol::V1) {
     return v1_error(v1_error_bits(error));
   }
+  if (protocol_ == wire::Protocol::Feetech) {
+    // FEETECH's bits are the live Servo status; a refusal adds its model-file bit, if any.
+    return v1_error(error == TableError::None ? 0 : spec().refusals().range);
+  }
   return error_byte_v2(v2_status_error(error));
 }
 
 std::uint8_t Servo::instruction_error() const {
+  if (protocol_ == wire::Protocol::Feetech) {
+    return v1_error(spec().refusals().instruction);
+  }
   return protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kInstruction)
                                          : error_byte_v2(wire::StatusError::Instruction);
 }
@@ -141,15 +163,22 @@ ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   ServoResponse r;
   r.reply = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   r.processing = write_time(0);
-  r.error = protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kChecksum)
-                                            : error_byte_v2(wire::StatusError::Crc);
+  if (protocol_ == wire::Protocol::Feetech) {
+    r.error = v1_error(spec().refusals().checksum);
+  } else {
+    r.error = protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kChecksum)
+                                              : error_byte_v2(wire::StatusError::Crc);
+  }
   return r;
 }
 
 bool Servo::replies_to(bool is_read) const {
   const auto& srl = items_.status_return_level;
-  const std::int64_t level = srl ? table_.get(*srl) : kSrlAll;
-  return level >= kSrlAll || (is_read && level >= kSrlReads);
+  // DYNAMIXEL Status Return Level (includes/control_table_status_return_lv.md): 0 answers Ping
+  // only, 1 also Read, 2 everything; FEETECH Response level: 0 Ping and Read, 1 everything.
+  const FamilyTraits& t = spec().traits();
+  const std::int64_t level = srl ? table_.get(*srl) : t.status_level_all;
+  return level >= t.status_level_all || (is_read && level >= t.status_level_reads);
 }
 
 sim::SimDuration Servo::write_time(std::size_t bytes) const {
@@ -206,8 +235,8 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           const TableResult result = table_.check_write(ins.address, ins.data, packet.protocol);
           if (result.ok()) {
             registered_ = Registered{ins.address, ins.data};
-            if (const auto flag = item({"registered_instruction", "registered"})) {
-              table_.set(*flag, 1);
+            if (items_.registered) {
+              table_.set(*items_.registered, 1);
             }
           }
           return from_table(result, write_time(ins.data.size()));
@@ -220,8 +249,8 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           }
           const Registered pending = std::move(*registered_);
           registered_.reset();
-          if (const auto flag = item({"registered_instruction", "registered"})) {
-            table_.set(*flag, 0);
+          if (items_.registered) {
+            table_.set(*items_.registered, 0);
           }
           const TableResult result =
               table_.bus_write(pending.address, pending.data, packet.protocol);
@@ -235,11 +264,15 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
             return reboot;
           }
           reboot.reboot_after = true;
+          // FEETECH Restart: "status frame: none".
+          reboot.reply = spec().traits().reboot_status;
           return reboot;
         } else if constexpr (std::is_same_v<T, wire::Clear>) {
           return do_clear(ins);
         } else if constexpr (std::is_same_v<T, wire::ControlTableBackup>) {
           return do_backup(ins);
+        } else if constexpr (kIsFeetechOnly<T>) {
+          return execute_feetech(ins);
         } else if constexpr (std::is_same_v<T, wire::UnknownInstruction>) {
           ServoResponse unknown = from_table({}, write_time(0));
           unknown.error = instruction_error();
@@ -309,7 +342,11 @@ ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) cons
   const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
   r.reply = !broadcast && replies_to(is_read);
   r.processing = write_time(0);
-  if (protocol_ == wire::Protocol::V1) {
+  if (protocol_ == wire::Protocol::Feetech) {
+    const RefusalBits bits = spec().refusals();
+    r.error =
+        v1_error(error.kind == wire::DecodeErrorKind::BadValue ? bits.range : bits.instruction);
+  } else if (protocol_ == wire::Protocol::V1) {
     r.error =
         v1_error(error.kind == wire::DecodeErrorKind::BadValue ? wire::v1_error::kRange
                                                                : wire::v1_error::kInstruction);
@@ -328,7 +365,7 @@ ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
   // More data than a 1.0 status can carry (an X in 1.0 mode has a table long enough to read it):
   // no status could answer with it, so it is refused as "out of the range for use" (protocol1.md
   // "Range Error"), like a read past the table.
-  if (protocol_ == wire::Protocol::V1 && length > kV1MaxStatusParams) {
+  if (protocol_ && wire::has_v1_layout(*protocol_) && length > kV1MaxStatusParams) {
     r.error = error_byte(TableError::DataRange);
     return r;
   }

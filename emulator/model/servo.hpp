@@ -152,6 +152,13 @@ class Servo {
   ServoResponse execute_secondary(const wire::InstructionPacket& packet);
   ServoResponse do_clear(const wire::Clear& clear);
   ServoResponse do_backup(const wire::ControlTableBackup& backup);
+  /// FEETECH's own instructions (servo_feetech.cpp).
+  ServoResponse execute_feetech(const wire::StatusReset& reset);
+  ServoResponse execute_feetech(const wire::ParameterBackup& backup);
+  ServoResponse execute_feetech(const wire::ParameterRecovery& recovery);
+  ServoResponse execute_feetech(const wire::PositionCalibration& calibration);
+  /// FEETECH's Lock flag is 0: EEPROM writes persist, and backup/recovery may run.
+  bool feetech_eeprom_unlocked() const;
   sim::SimDuration write_time(std::size_t bytes) const;
   std::optional<std::size_t> item(std::initializer_list<std::string_view> keys) const;
 
@@ -161,13 +168,14 @@ class Servo {
   struct KeyItems {
     std::size_t id = 0;
     std::size_t baud_rate = 0;
-    std::size_t return_delay_time = 0;
-    std::optional<std::size_t> protocol;  // Protocol Type (Protocol Version on MX(2.0))
+    std::optional<std::size_t> return_delay_time;  // FEETECH HLS has none
+    std::optional<std::size_t> protocol;           // Protocol Type (Protocol Version on MX(2.0))
     std::optional<std::size_t> hardware_error_status;  // DYNAMIXEL-Y: Error Code
     std::optional<std::size_t> status_return_level;
     std::optional<std::size_t> secondary_id;
     std::optional<std::size_t> bus_watchdog;
-    std::optional<std::size_t> torque_enable;
+    std::optional<std::size_t> torque_enable;  // FEETECH: Torque switch
+    std::optional<std::size_t> registered;     // FEETECH: Async write flag
   };
   KeyItems items_;
   std::uint8_t id_ = 1;
@@ -180,6 +188,8 @@ class Servo {
   };
   std::optional<Registered> registered_;
   std::optional<std::vector<std::uint8_t>> backup_;  // the whole byte image when stored
+  /// FEETECH Parameter backup: the byte image Parameter recovery restores.
+  std::optional<std::vector<std::uint8_t>> parameter_backup_;
 };
 
 }  // namespace dxlemu::model

@@ -45,7 +45,7 @@ def build_model(ref: FeetechReference, model: Model) -> dict:
     notes = [model.model_number_note, model.firmware[2], PROTOCOL_NOTE,
              f"byte_order: {family.byte_order}, the END item (2) of FEETECH's table "
              f"({'1: big-endian' if family.byte_order == 'big' else '0: little-endian'})",
-             f"family: {family.name}, FEETECH's series; it has no row in the family traits table yet",
+             f"family: {family.name}, FEETECH's series (its row of the family traits table: docs/feetech.md)",
              BAUD_NOTE, "default_id: 1, default_baud_index: 0, the table's initial values",
              RETURN_DELAY_NOTE, TIMING_NOTE, BOOT_NOTE, *model.motion_notes,
              f"motion.current_unit_ma: {model.current_unit_ma}, the unit of Present current" if model.current_unit_ma

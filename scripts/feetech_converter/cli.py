@@ -32,7 +32,14 @@ def build_all(reference: Path) -> dict[str, str]:
         check_model_numbers(models, REPO_ROOT / "models" / "catalog.json")
     except ValueError as exc:
         raise SystemExit(f"convert_feetech_models: {exc}")
-    return {f"{m['name']}.json": dump(m) for m in models}
+    files = {f"{m['name']}.json": dump(m) for m in models}
+    # FEETECH's catalog, beside DYNAMIXEL's models/catalog.json (which the DYNAMIXEL converter
+    # writes whole): the library loads every maker folder's catalog.json.
+    catalog = [{"name": m["name"], "title": m["title"], "model_number": m["model_number"],
+                "family": m["family"], "protocols": m["protocols"], "file": f"{m['name']}.json"}
+               for m in models]
+    files["catalog.json"] = dump({"models": sorted(catalog, key=lambda c: c["name"])})
+    return files
 
 
 def main(argv=None, description: str = "") -> int:

@@ -21,8 +21,8 @@ TIMING_NOTE = ("timing: no FEETECH source gives a processing time before a reply
 BOOT_NOTE = "timing.boot_ms: 1800, the protocol page's Restart instruction: 'restart time about 1800ms'"
 RETURN_DELAY_NOTE = ("return_delay_unit_us: 2 (SMS table 'Response return delay', unit 2us; the ST3215 "
                      "spreadsheet 'Return delay', unit 2us)")
-PROTOCOL_NOTE = ("protocols: the FT-SCS protocol (feetech/protocol-ft-scs.md), which the loader does not know "
-                 "until the FEETECH codec is merged: keep this file out of models/catalog.json until then")
+PROTOCOL_NOTE = ("protocols: the FT-SCS protocol (feetech/protocol-ft-scs.md); listed in models/feetech/catalog.json, "
+                 "FEETECH's catalog beside DYNAMIXEL's models/catalog.json")
 MODEL_NUMBER_NOTE = ("size: the wiki prints 3 'Servo major version' and 4 'Servo minor version', "
                      "1 byte each; every SDK (MODEL_L 3 / MODEL_H 4) and lerobot (Model_Number (3, 2)) read one "
                      "2-byte word there, which Ping's model check compares, so the model has one 2-byte item "
@@ -311,7 +311,7 @@ MODELS = [
           current_unit_ma=6.5,
           initials={62: (74, "initial: the wiki prints '–'; 74, the supply at the model's 7.4 V")},
           notes=["items: the HLS table has no return delay item (its address 7 is the Secondary ID), and the "
-                 "model has none: the loader's rule that every model has return_delay_time must become a "
-                 "family trait before this file can load",
+                 "model has none: a FEETECH model may lack return_delay_time, and then answers without a "
+                 "return delay (docs/feetech.md)",
                  "lerobot: no HLS support"]),
 ]

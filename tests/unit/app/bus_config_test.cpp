@@ -207,3 +207,34 @@ TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON poi
     CHECK(refusal(text) == message);
   }
 }
+
+TEST_CASE("The library loads FEETECH's catalog, model numbers are one maker's",
+          "[app][config][feetech]") {
+  for (const std::string name : {"sts3215", "sts3250", "sm8512bl", "scs0009", "hls3625m"}) {
+    INFO(name);
+    const auto spec = library().find(name);
+    REQUIRE(spec);
+    CHECK(spec->protocols == std::vector{wire::Protocol::Feetech});
+  }
+  CHECK(library().find(777, model::Maker::Feetech) == library().find("sts3215"));
+  CHECK(library().find(777, model::Maker::Robotis) == nullptr);
+  CHECK(library().find(1020, model::Maker::Robotis) == library().find("xm430-w350"));
+  CHECK(library().find(1020, model::Maker::Feetech) == nullptr);
+  app::ModelFilter feetech;
+  feetech.protocol = wire::Protocol::Feetech;
+  CHECK(library().select(feetech).size() == 5);
+}
+
+TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",
+          "[app][config][feetech]") {
+  const auto config = parse(one_port(R"({"model": "sts3215", "ids": [1, 2, 3], "baud": 1000000})"));
+  REQUIRE(config.ports[0].servos.size() == 3);
+  CHECK(config.ports[0].servos[0].items ==
+        std::vector<std::pair<std::string, std::int64_t>>{{"baud_rate", 0}});
+  CHECK(refusal(one_port(R"({"model": "xm430-w350", "ids": [1, 2]},
+                            {"model": "sts3215", "id": 3})")) ==
+        "bus.json: /ports/0/servos/1: sts3215 is a FEETECH model, but xm430-w350 on the same "
+        "port is ROBOTIS: a port speaks one maker's protocol (put them on separate ports)");
+  CHECK(refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")) ==
+        "bus.json: /ports/0/servos/0/protocol: sts3215 cannot speak protocol 1");
+}

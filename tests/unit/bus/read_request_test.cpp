@@ -34,8 +34,23 @@ TEST_CASE("Fast and Protocol 1.0 group reads are told apart", "[bus][group]") {
 }
 
 TEST_CASE("Group instructions are the Sync and Bulk ones and their Fast forms", "[bus][group]") {
-  CHECK(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::FastBulkRead)));
-  CHECK(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::SyncWrite)));
-  CHECK_FALSE(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::Write)));
-  CHECK_FALSE(bus::is_group_instruction(wire::to_byte(wire::InstructionCode::Reboot)));
+  CHECK(bus::is_group_instruction(wire::Protocol::V2,
+                                  wire::to_byte(wire::InstructionCode::FastBulkRead)));
+  CHECK(bus::is_group_instruction(wire::Protocol::V2,
+                                  wire::to_byte(wire::InstructionCode::SyncWrite)));
+  CHECK_FALSE(
+      bus::is_group_instruction(wire::Protocol::V2, wire::to_byte(wire::InstructionCode::Write)));
+  CHECK_FALSE(
+      bus::is_group_instruction(wire::Protocol::V2, wire::to_byte(wire::InstructionCode::Reboot)));
+}
+
+TEST_CASE("FEETECH group instructions are SYNC READ and SYNC WRITE only", "[bus][group][feetech]") {
+  using wire::Protocol;
+  CHECK(bus::is_group_instruction(Protocol::Feetech, 0x82));
+  CHECK(bus::is_group_instruction(Protocol::Feetech, 0x83));
+  // DYNAMIXEL's Fast Sync Read and Bulk Read/Write codes mean nothing in FEETECH.
+  for (const std::uint8_t code : {0x8A, 0x92, 0x93, 0x9A, 0x03}) {
+    CHECK_FALSE(bus::is_group_instruction(Protocol::Feetech, code));
+  }
+  CHECK(bus::is_group_instruction(Protocol::V1, 0x92));
 }

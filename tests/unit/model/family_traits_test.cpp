@@ -17,7 +17,8 @@ namespace {
 const std::vector<std::pair<Family, std::string>> kNames = {
     {Family::X, "x"},     {Family::Mx2, "mx2"}, {Family::Mx1, "mx1"},     {Family::Ax, "ax"},
     {Family::Rx, "rx"},   {Family::Ex, "ex"},   {Family::Xl320, "xl320"}, {Family::P, "p"},
-    {Family::Pro, "pro"}, {Family::Dx, "dx"},   {Family::ProA, "pro_a"},  {Family::Y, "y"}};
+    {Family::Pro, "pro"}, {Family::Dx, "dx"},   {Family::ProA, "pro_a"},  {Family::Y, "y"},
+    {Family::Sts, "sts"}, {Family::Sms, "sms"}, {Family::Scs, "scs"},     {Family::Hls, "hls"}};
 
 bool same_bits(const model::FaultBits& a, const model::FaultBits& b) {
   return a.input_voltage == b.input_voltage && a.overheating == b.overheating &&
@@ -34,7 +35,8 @@ TEST_CASE("Every family has one row, found by its name in model files", "[model]
     CHECK(model::family_name(family) == name);
     CHECK(model::family_from_name(name) == family);
   }
-  CHECK(model::family_names() == "x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, pro_a, y");
+  CHECK(model::family_names() ==
+        "x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, pro_a, y, sts, sms, scs, hls");
   CHECK_FALSE(model::family_from_name("pro+").has_value());
 }
 
@@ -152,5 +154,44 @@ TEST_CASE(
     CHECK(t.fast_read == fast);
     CHECK(t.v1_bulk_read ==
           (family == Family::Mx1 || family == Family::Mx2 || family == Family::X));
+  }
+}
+
+TEST_CASE("The FEETECH series: FEETECH's status bits, mode values, response levels and Lock",
+          "[model][traits][feetech]") {
+  using model::HardwareFault;
+  for (const Family family : {Family::Sts, Family::Sms, Family::Scs, Family::Hls}) {
+    CAPTURE(model::family_name(family));
+    const model::FamilyTraits& t = traits_of(family);
+    CHECK(t.maker == model::Maker::Feetech);
+    CHECK(t.drive == model::DriveKind::OperatingMode);
+    CHECK(t.error_reaction == model::ErrorReaction::AlarmShutdown);
+    CHECK_FALSE(t.reboot_status);  // Restart: "status frame: none"
+    CHECK(t.operating_modes.position == 0);
+    CHECK(t.operating_modes.velocity == 1);
+    CHECK(t.operating_modes.pwm == 2);
+    CHECK_FALSE(t.operating_modes.current.has_value());
+    CHECK(t.homing_offset_subtracts);
+    CHECK_FALSE(t.secondary_id_addresses);
+    CHECK((t.status_level_all == 1 && t.status_level_reads == 0));
+    CHECK(t.lock_flag_keeps_eeprom);
+    CHECK_FALSE(t.eeprom_locked_by_torque);
+    // Refusal bits never collide with a bit FEETECH defines.
+    CHECK(t.refusal_bits == model::RefusalBits{.checksum = 0x10, .instruction = 0x40, .range = 0});
+    CHECK(model::fault_bit(family, HardwareFault::InputVoltage) == 0x01);
+    CHECK(model::fault_bit(family, HardwareFault::Overheating) == 0x04);
+  }
+  CHECK(model::fault_bit(Family::Sts, HardwareFault::Encoder) == 0x02);
+  CHECK(model::fault_bit(Family::Sts, HardwareFault::ElectricalShock) == 0x08);
+  CHECK(model::fault_bit(Family::Sts, HardwareFault::Overload) == 0x20);
+  CHECK(model::fault_bit(Family::Scs, HardwareFault::Encoder) == 0);
+  CHECK(model::fault_bit(Family::Hls, HardwareFault::Overload) == 0);
+  CHECK(traits_of(Family::Sms).min_return_delay == 50);
+  CHECK(traits_of(Family::Sts).min_return_delay == 0);
+  CHECK(traits_of(Family::Sts).calibrate_torque_value == 128);
+  CHECK_FALSE(traits_of(Family::Scs).calibrate_torque_value.has_value());
+  for (const auto& [family, name] : kNames) {
+    const bool feetech = name == "sts" || name == "sms" || name == "scs" || name == "hls";
+    CHECK((traits_of(family).maker == model::Maker::Feetech) == feetech);
   }
 }

@@ -127,14 +127,15 @@ TEST_CASE("The loader refuses a model without the items every servo needs", "[mo
             items.erase(std::find_if(items.begin(), items.end(),
                                      [&](const json& i) { return i["key"] == key; }));
           }) == "/items: has no item \"" + key +
-                    "\" (every model needs id, baud_rate and return_delay_time)");
+                    "\" (every model needs id, baud_rate and return_delay_time; a FEETECH "
+                    "model may lack return_delay_time)");
   }
 }
 
 TEST_CASE("The loader refuses an unknown family", "[model][loader]") {
   CHECK(refusal([](json& j) { j["family"] = "pro+"; }) ==
         "/family: unknown family \"pro+\" (known: x, mx2, mx1, ax, rx, ex, xl320, p, pro, dx, "
-        "pro_a, y)");
+        "pro_a, y, sts, sms, scs, hls)");
 }
 
 TEST_CASE("The loader refuses an unsupported item size", "[model][loader]") {

@@ -1,16 +1,15 @@
 // Item value encodings beyond DYNAMIXEL's: a model-level big-endian byte order and per-item
 // sign-magnitude (docs/model-format.md "Value encodings"), as FEETECH servos store them. The
-// models are synthetic (the test model with FEETECH-style items), so the tests need no FEETECH
-// protocol, except the last, which loads the FEETECH files of models/feetech/ with protocol and
-// family replaced (docs/feetech.md "Models").
+// models are synthetic (the test model with FEETECH-style items), except in the last test, which
+// loads the FEETECH files of models/feetech/ (docs/feetech.md "Models").
 #include <catch2/catch.hpp>
 
-#include <filesystem>
-#include <fstream>
+#include <algorithm>
 
 #include "app/bus_state.hpp"
 #include "model/control_table.hpp"
 #include "model/item_encoding.hpp"
+#include "shipped_model.hpp"
 #include "table_access.hpp"
 #include "test_model.hpp"
 
@@ -265,51 +264,82 @@ TEST_CASE("The loader refuses bad byte orders, sign bits and sign-magnitude rang
 }
 
 TEST_CASE("The loader names an unknown protocol and the ones it knows", "[model][loader]") {
-  CHECK(refusal([](json& j) { j["protocols"] = {"feetech"}; }) ==
-        "/protocols/0: unknown protocol \"feetech\" (known: 1, 2)");
+  CHECK(refusal([](json& j) { j["protocols"] = {"modbus"}; }) ==
+        "/protocols/0: unknown protocol \"modbus\" (known: 1, 2, \"feetech\")");
   CHECK(refusal([](json& j) { j["protocols"] = {3}; }) ==
         "/protocols/0: must be between 1 and 2, got 3");
+  // A DYNAMIXEL family speaks no FEETECH, and the reverse (docs/feetech.md "One maker per port").
+  CHECK(refusal([](json& j) { j["protocols"] = {"feetech"}; }) ==
+        "/protocols/0: a model of the ROBOTIS family \"x\" cannot speak FEETECH");
+  CHECK(refusal([](json& j) { j["family"] = "sts"; }) ==
+        "/protocols/0: a model of the FEETECH family \"sts\" cannot speak Protocol 2.0");
 }
 
-namespace {
-
-// A FEETECH model file of models/feetech/ with what this build's loader cannot know yet replaced:
-// the FT-SCS protocol by Protocol 1.0 and the series by the X family (docs/feetech.md "Models").
-std::shared_ptr<const model::ModelSpec> feetech_file(const std::string& name) {
-  const std::filesystem::path path =
-      std::filesystem::path(DXLEMU_MODELS_DIR) / "feetech" / (name + ".json");
-  std::ifstream in(path);
-  REQUIRE(in.good());
-  json j = json::parse(in);
-  CHECK(j.at("protocols") == json{"feetech"});
-  j["protocols"] = {1};
-  j["family"] = "x";
-  return std::make_shared<const model::ModelSpec>(model::model_from_json(j, path.string()));
-}
-
-}  // namespace
-
-TEST_CASE("The FEETECH model files load once their protocol and family are known",
-          "[model][encoding]") {
-  // HLS3625M is not among them: its table has no return delay item (docs/feetech.md).
-  for (const std::string name : {"sts3215", "sts3250", "sm8512bl", "scs0009"}) {
+TEST_CASE("The FEETECH model files load as shipped", "[model][encoding][feetech]") {
+  for (const std::string name : {"sts3215", "sts3250", "sm8512bl", "scs0009", "hls3625m"}) {
     INFO(name);
-    ControlTable t(feetech_file(name));
+    ControlTable t(test::shipped_model("feetech/" + name));
+    CHECK(t.spec().protocols == std::vector{wire::Protocol::Feetech});
+    CHECK(t.spec().maker() == model::Maker::Feetech);
     CHECK(t.spec().byte_order == (name == "scs0009" ? ByteOrder::Big : ByteOrder::Little));
     std::vector<std::uint8_t> model_number;
     REQUIRE(t.bus_read(3, 2, model_number).ok());
     CHECK(model::unpack(t.spec().byte_order, model_number) == t.spec().model_number);
   }
-  ControlTable sts(feetech_file("sts3215"));
+  // HLS's address 7 is its Secondary ID: no return delay item, which FEETECH models may lack.
+  CHECK_FALSE(test::shipped_model("feetech/hls3625m")->find("return_delay_time"));
+  ControlTable sts(test::shipped_model("feetech/sts3215"));
   CHECK(read(sts, 3, 2) == Bytes{0x09, 0x03});  // 777: the ST3215 spreadsheet's 9 and 3
-  REQUIRE(write(sts, 42, {0x00, 0x88}, wire::Protocol::V1) == TableError::None);
+  REQUIRE(write(sts, 42, {0x00, 0x88}, wire::Protocol::Feetech) == TableError::None);
   CHECK(sts.get("goal_position") == -2048);
-  REQUIRE(write(sts, 31, {0xFF, 0x0F}, wire::Protocol::V1) == TableError::None);
+  REQUIRE(write(sts, 31, {0xFF, 0x0F}, wire::Protocol::Feetech) == TableError::None);
   CHECK(sts.get("position_offset") == -2047);  // lerobot's Homing_Offset, sign bit 11
-  CHECK(write(sts, 31, {0x00, 0x10}, wire::Protocol::V1) == TableError::DataRange);
-  ControlTable scs(feetech_file("scs0009"));
+  CHECK(write(sts, 31, {0x00, 0x10}, wire::Protocol::Feetech) == TableError::DataRange);
+  ControlTable scs(test::shipped_model("feetech/scs0009"));
   CHECK(read(scs, 3, 2) == Bytes{0x05, 0x04});  // 1284, high byte first
-  REQUIRE(write(scs, 42, {0x01, 0xFF}, wire::Protocol::V1) == TableError::None);
+  REQUIRE(write(scs, 42, {0x01, 0xFF}, wire::Protocol::Feetech) == TableError::None);
   CHECK(scs.get("goal_position") == 511);
   CHECK(read(scs, 56, 2) == Bytes{0x02, 0x00});  // Present position 512 at rest
+}
+
+TEST_CASE("refusal_bits: FEETECH models only, never a bit FEETECH defines",
+          "[model][loader][feetech]") {
+  const auto as_feetech = [](json& j) {
+    j["family"] = "sts";
+    j["protocols"] = {"feetech"};
+  };
+  CHECK(refusal([](json& j) {
+          j["refusal_bits"] = {{"checksum", 16}};
+        }) == "/refusal_bits: is a setting of FEETECH models only");
+  CHECK(refusal([&](json& j) {
+          as_feetech(j);
+          j["refusal_bits"] = {{"range", 8}};
+        }) ==
+        "/refusal_bits/range: uses a bit FEETECH defines for a hardware error (1, 2, 4, 8, "
+        "32 are taken)");
+  CHECK(refusal([&](json& j) {
+          as_feetech(j);
+          j["refusal_bits"] = {{"angle", 64}};
+        }).rfind("/refusal_bits/angle: ", 0) == 0);
+  json j = feetech_style("little");
+  as_feetech(j);
+  j["refusal_bits"] = {{"range", 0x80}};
+  const model::ModelSpec spec = model::model_from_json(j, "ft.json");
+  // The keys not given are the family's.
+  CHECK(spec.refusals() ==
+        model::RefusalBits{.checksum = 0x10, .instruction = 0x40, .range = 0x80});
+}
+
+TEST_CASE("A FEETECH model may lack return_delay_time, a DYNAMIXEL one may not",
+          "[model][loader][feetech]") {
+  json j = feetech_style("little");
+  auto& items = j["items"];
+  items.erase(std::remove_if(items.begin(), items.end(),
+                             [](const json& item) { return item["key"] == "return_delay_time"; }),
+              items.end());
+  CHECK_THROWS_WITH(model::model_from_json(j, "x.json"),
+                    Catch::Contains("has no item \"return_delay_time\""));
+  j["family"] = "hls";
+  j["protocols"] = {"feetech"};
+  CHECK_FALSE(model::model_from_json(j, "hls.json").find("return_delay_time"));
 }

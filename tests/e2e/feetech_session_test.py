@@ -1,0 +1,166 @@
+"""End-to-end: a LeRobot-style session on six FEETECH STS3215 at 1 Mbit/s over a real PTY
+(`dxlemu run --servo sts3215:1-6 --baud 1000000`, docs/feetech.md).
+
+It drives the bus as LeRobot's FeetechMotorsBus does through FEETECH's SDK: scan by ping
+(unicast, and a broadcast ping that collides with six servos answering at once), read the model
+numbers (address 3, 2 bytes = 777), calibrate (Torque 0, Lock 0, Homing_Offset, position
+limits), Return delay 0, torque on (Torque 1, Lock 1), SYNC WRITE Goal_Position (42, 2 bytes),
+SYNC READ Present_Position (56, 2 bytes) until every servo has arrived at its goal minus its
+homing offset, then a hardware fault injected through the control API, seen in the status error
+byte and in Servo status (65).
+
+The FEETECH frames are built here with a small local helper (checksum = ~sum & 0xFF).
+"""
+import os
+import tempfile
+import time
+import unittest
+
+from dxl_client import Control, Daemon, Port, timeout_scale
+
+PING, READ, WRITE, SYNC_READ, SYNC_WRITE = 0x01, 0x02, 0x03, 0x82, 0x83
+BROADCAST = 0xFE
+IDS = [1, 2, 3, 4, 5, 6]
+# The STS memory table (feetech/sts3215.md).
+MODEL_NUMBER, MIN_LIMIT, MAX_LIMIT, RETURN_DELAY = 3, 9, 11, 7
+HOMING_OFFSET, TORQUE, GOAL, LOCK, PRESENT, STATUS = 31, 40, 42, 55, 56, 65
+STS3215 = 777
+OVERHEAT = 0x04  # Servo status bit 2 (FTServo_Python ERRBIT_OVERHEAT)
+
+
+def checksum(body: bytes) -> int:
+    return ~sum(body) & 0xFF
+
+
+def frame(ident: int, instruction: int, params: bytes = b"") -> bytes:
+    """An FT-SCS instruction packet: FF FF ID LENGTH INSTRUCTION PARAMS CHECKSUM."""
+    body = bytes([ident, len(params) + 2, instruction]) + params
+    return b"\xff\xff" + body + bytes([checksum(body)])
+
+
+def sign_magnitude(value: int, bit: int) -> int:
+    """LeRobot's encode_sign_magnitude: the direction in `bit`, the magnitude below it."""
+    return (abs(value) | (1 << bit)) if value < 0 else value
+
+
+def word(value: int) -> bytes:
+    return value.to_bytes(2, "little")
+
+
+class FeetechSessionTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        cls.link = os.path.join(cls.dir.name, "ttyACM0")
+        cls.daemon = Daemon("--link", cls.link, "--control", os.path.join(cls.dir.name, "ctl"),
+                            "--servo", "sts3215:1-6", "--baud", "1000000")
+        cls.control = Control(cls.daemon.ready["control"])
+        cls.port = Port(cls.link, 1_000_000)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.port.close()
+        cls.control.close()
+        cls.daemon.stop()
+        cls.dir.cleanup()
+
+    def status(self, data_size: int) -> tuple[int, int, bytes]:
+        """One status packet with `data_size` data bytes: (ID, error byte, data)."""
+        raw = self.port.read(6 + data_size, timeout=1.0 * timeout_scale())
+        self.assertEqual(len(raw), 6 + data_size, f"status cut short: {raw.hex(' ')}")
+        self.assertEqual(raw[:2], b"\xff\xff")
+        self.assertEqual(raw[3], data_size + 2)
+        self.assertEqual(raw[-1], checksum(raw[2:-1]), f"bad checksum: {raw.hex(' ')}")
+        return raw[2], raw[4], raw[5:-1]
+
+    def ask(self, ident: int, instruction: int, params: bytes = b"", data_size: int = 0) -> tuple[int, bytes]:
+        """Sends, and returns (error byte, data) of the servo's status."""
+        self.port.write(frame(ident, instruction, params))
+        got, error, data = self.status(data_size)
+        self.assertEqual(got, ident)
+        return error, data
+
+    def write(self, ident: int, address: int, data: bytes) -> None:
+        error, _ = self.ask(ident, WRITE, bytes([address]) + data)
+        self.assertEqual(error, 0, f"write {address} to {ident}")
+
+    def read(self, ident: int, address: int, size: int) -> bytes:
+        error, data = self.ask(ident, READ, bytes([address, size]), size)
+        self.assertEqual(error, 0)
+        return data
+
+    def sync_read(self, address: int, size: int) -> dict[int, bytes]:
+        self.port.write(frame(BROADCAST, SYNC_READ, bytes([address, size, *IDS])))
+        out = {}
+        for ident in IDS:  # one status per ID, in the order of the request
+            got, error, data = self.status(size)
+            self.assertEqual((got, error), (ident, 0))
+            out[got] = data
+        return out
+
+    def test_1_scan_by_ping_and_read_model_numbers(self):
+        for ident in IDS:
+            self.assertEqual(self.ask(ident, PING), (0, b""))
+            self.assertEqual(int.from_bytes(self.read(ident, MODEL_NUMBER, 2), "little"), STS3215)
+        # Nobody at ID 7: silence.
+        self.port.write(frame(7, PING))
+        self.assertEqual(self.port.read(6, timeout=0.05), b"")
+        # Six servos answer a broadcast ping at once: one 6-byte packet whose bytes collided
+        # (the wired AND of the six), with a checksum that does not match.
+        self.port.write(frame(BROADCAST, PING))
+        raw = self.port.read(6, timeout=1.0 * timeout_scale())
+        self.assertEqual(raw, bytes([0xFF, 0xFF, 0x00, 0x02, 0x00, 0xF0]))
+        self.assertNotEqual(raw[-1], checksum(raw[2:-1]))
+        self.assertEqual(self.port.read(1, timeout=0.05), b"")
+
+    def test_2_calibrate_then_move_with_sync_write_and_sync_read(self):
+        homing = {ident: 100 * ident - 350 for ident in IDS}  # -250 ~ 250
+        for ident in IDS:
+            # LeRobot's calibration: torque off and EEPROM unlocked, then offsets and limits.
+            self.write(ident, TORQUE, b"\x00")
+            self.write(ident, LOCK, b"\x00")
+            self.write(ident, HOMING_OFFSET, word(sign_magnitude(homing[ident], 11)))
+            self.write(ident, MIN_LIMIT, word(500))
+            self.write(ident, MAX_LIMIT, word(3500))
+            self.write(ident, RETURN_DELAY, b"\x00")  # configure_motors()
+        for ident in IDS:
+            # Present_Position = Actual_Position - Homing_Offset, the shaft at 2048.
+            self.assertEqual(int.from_bytes(self.read(ident, PRESENT, 2), "little"), 2048 - homing[ident])
+            # enable_torque(): Torque_Enable 1, then Lock 1.
+            self.write(ident, TORQUE, b"\x01")
+            self.write(ident, LOCK, b"\x01")
+        goals = {ident: 1000 + 300 * ident for ident in IDS}
+        params = bytes([GOAL, 2]) + b"".join(bytes([ident]) + word(goals[ident]) for ident in IDS)
+        self.port.write(frame(BROADCAST, SYNC_WRITE, params))
+        self.assertEqual(self.port.read(1, timeout=0.05), b"")  # SYNC WRITE: no reply
+        deadline = time.monotonic() + 10 * timeout_scale()
+        while True:
+            present = {i: int.from_bytes(d, "little") for i, d in self.sync_read(PRESENT, 2).items()}
+            if all(abs(present[i] - goals[i]) <= 3 for i in IDS):
+                break
+            self.assertLess(time.monotonic(), deadline, f"not arrived: {present} (goals {goals})")
+            time.sleep(0.02)
+        # The control API sees the shaft where the offsets say.
+        for ident in IDS:
+            shaft = self.control.call("get", servo=ident, item="present_position")["value"]
+            self.assertLessEqual(abs(shaft - goals[ident]), 3)
+
+    def test_3_a_hardware_fault_shows_in_the_status_error_byte_and_servo_status(self):
+        rule = self.control.call("fault.add", rule={"action": "hardware_error", "kind": "overheating",
+                                                    "match": {"servos": [3]}})
+        try:
+            deadline = time.monotonic() + 5 * timeout_scale()
+            while True:
+                error, data = self.ask(3, READ, bytes([STATUS, 1]), 1)
+                if error == OVERHEAT:
+                    break
+                self.assertLess(time.monotonic(), deadline, f"error byte {error:#04x}")
+                time.sleep(0.01)
+            self.assertEqual(data, bytes([OVERHEAT]))
+            self.assertEqual(self.ask(2, PING), (0, b""))  # the others are fine
+        finally:
+            self.control.call("fault.remove", rule=rule["rule"])
+
+
+if __name__ == "__main__":
+    unittest.main()

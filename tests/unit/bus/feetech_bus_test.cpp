@@ -1,0 +1,445 @@
+// FEETECH servos on a bus: framing, group instructions, broadcast Ping collisions, reply timing,
+// status bits, Response level, REG WRITE/ACTION, Restart and FEETECH's own instructions
+// (docs/feetech.md "On a bus").
+#include <catch2/catch.hpp>
+
+#include "app/bus_state.hpp"
+#include "bus_rig.hpp"
+#include "model/hardware_fault.hpp"
+
+namespace dxlemu {
+namespace {
+
+using namespace std::chrono_literals;
+using test::BusRig;
+using test::kBroadcast;
+using test::line;
+using wire::Protocol;
+
+constexpr std::uint32_t kMbps = 1'000'000;  // every FEETECH model's factory rate
+// The models' processing time (no source gives one: docs/feetech.md "Reply timing").
+constexpr sim::SimDuration kProcessing = 50us;
+
+/// A bus of `count` STS3215 with IDs 1 ~ count.
+BusRig& sts_bus(BusRig& rig, int count) {
+  for (int id = 1; id <= count; ++id) {
+    rig.add("feetech/sts3215", static_cast<std::uint8_t>(id));
+  }
+  return rig;
+}
+
+std::size_t send(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
+  return rig.send({Protocol::Feetech, id, std::move(instruction)}, kMbps);
+}
+
+/// Sends and lets the reply (if any) come before the next packet, as a client waits for it.
+void ask(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
+  send(rig, id, std::move(instruction));
+  rig.run(10ms);
+}
+
+std::string status(const bus::LoopbackLink::Delivery& d) {
+  return test::status_text(d.bytes, Protocol::Feetech);
+}
+
+std::vector<std::uint8_t> le16(std::int64_t v) {
+  const auto u = static_cast<std::uint16_t>(v);
+  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
+}
+
+}  // namespace
+
+TEST_CASE("A FEETECH Ping is answered with FF FF ID 02 ERR SUM after wire and processing time",
+          "[bus][feetech][timing]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  const std::size_t sent = send(rig, 1, wire::Ping{});
+  rig.run();
+  const auto& d = rig.link.deliveries();
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].bytes == std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
+  // Return delay (address 7) 0 at the factory.
+  CHECK(d[0].at == sim::SimTime{} + line(sent, kMbps) + kProcessing + line(6, kMbps));
+}
+
+TEST_CASE("A FEETECH servo reads its model number at 3 and answers Read with its bytes",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  send(rig, 1, wire::Read{3, 2});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00 params=09 03");  // 777
+}
+
+TEST_CASE("Broadcast Ping: one FEETECH servo answers cleanly, several collide",
+          "[bus][feetech][collision]") {
+  SECTION("one servo") {
+    BusRig rig;
+    sts_bus(rig, 1);
+    send(rig, kBroadcast, wire::Ping{});
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
+  }
+  SECTION("six servos") {
+    BusRig rig;
+    sts_bus(rig, 6);
+    send(rig, kBroadcast, wire::Ping{});
+    rig.run();
+    // All six answer at once: the client gets one garbled packet (the line's wired AND of the
+    // six), whose checksum fails, not six statuses.
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(rig.link.deliveries()[0].bytes ==
+          std::vector<std::uint8_t>{0xFF, 0xFF, 0x00, 0x02, 0x00, 0xF0});
+    CHECK(status(rig.link.deliveries()[0]) == "not one status packet");
+    CHECK(rig.bus.stats().id_conflicts == 1);
+  }
+}
+
+TEST_CASE("FEETECH SYNC READ answers one status per listed ID, in request order, chained",
+          "[bus][feetech][timing]") {
+  BusRig rig;
+  sts_bus(rig, 3);
+  for (const auto& servo : rig.bus.servos()) {
+    servo->table().set("present_temperature", 30 + servo->id());
+  }
+  rig.bus.servos()[2]->table().set("return_delay_time", 10);  // ID 3: 20 us
+  rig.bus.servos()[2]->commit_deferred();
+  const std::size_t sent = send(rig, kBroadcast, wire::SyncRead{63, 1, {3, 1, 2}});
+  rig.run();
+  const auto& d = rig.link.deliveries();
+  REQUIRE(d.size() == 3);
+  CHECK(status(d[0]) == "id=3 error=0x00 params=21");
+  CHECK(status(d[1]) == "id=1 error=0x00 params=1F");
+  CHECK(status(d[2]) == "id=2 error=0x00 params=20");
+  const sim::SimTime first =
+      sim::SimTime{} + line(sent, kMbps) + kProcessing + 20us + line(7, kMbps);
+  CHECK(d[0].at == first);
+  CHECK(d[1].at == first + kProcessing + line(7, kMbps));
+  CHECK(d[2].at == d[1].at + kProcessing + line(7, kMbps));
+}
+
+TEST_CASE("A FEETECH SYNC READ stops at a listed ID that does not answer, as the 2.0 chain does",
+          "[bus][feetech]") {
+  BusRig rig;
+  rig.add("feetech/sts3215", 1);
+  rig.add("feetech/sts3215", 3);
+  send(rig, kBroadcast, wire::SyncRead{56, 2, {1, 2, 3}});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(status(rig.link.deliveries()[0]).rfind("id=1 ", 0) == 0);
+}
+
+TEST_CASE("FEETECH SYNC WRITE and broadcast WRITE apply without a reply", "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 2);
+  send(rig, kBroadcast, wire::SyncWrite{41, 1, {{1, {10}}, {2, {20}}}});
+  rig.run();
+  send(rig, kBroadcast, wire::Write{26, {3}});
+  rig.run();
+  CHECK(rig.link.deliveries().empty());
+  CHECK(rig.bus.servos()[0]->table().get("acceleration") == 10);
+  CHECK(rig.bus.servos()[1]->table().get("acceleration") == 20);
+  CHECK(rig.bus.servos()[1]->table().get("positive_deadband") == 3);
+}
+
+TEST_CASE("DYNAMIXEL's Bulk Read code is an unknown instruction to a FEETECH servo",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  send(rig, 1, wire::UnknownInstruction{0x92, {}});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  // Protocol 1.0's Instruction bit, which FEETECH leaves free.
+  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x40");
+}
+
+TEST_CASE("FEETECH refusals: checksum and instruction bits, a refused write changes nothing",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  SECTION("bad checksum: 0x10") {
+    auto bytes = wire::encode_instruction({Protocol::Feetech, 1, wire::Read{56, 2}});
+    bytes.back() ^= 0x01;
+    rig.bus.receive(bytes, rig.scheduler.now(), kMbps);
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x10");
+  }
+  SECTION("write to a read-only item: no bit, nothing written") {
+    send(rig, 1, wire::Write{63, {99}});
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
+    CHECK(servo.table().get("present_temperature") == 25);
+  }
+  SECTION("value out of range: no bit, nothing written") {
+    send(rig, 1, wire::Write{26, {17}});  // Positive deadband 0 ~ 16
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
+    CHECK(servo.table().get("positive_deadband") == 1);
+  }
+  SECTION("read outside the table: no bit, no data") {
+    send(rig, 1, wire::Read{90, 2});
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
+  }
+}
+
+TEST_CASE("A model file's refusal_bits replace its family's", "[bus][feetech]") {
+  BusRig rig;
+  auto spec = std::make_shared<model::ModelSpec>(*test::shipped_model("feetech/sts3215"));
+  spec->refusal_bits = model::RefusalBits{.checksum = 0, .instruction = 0x80, .range = 0x40};
+  rig.bus.add_servo(std::make_unique<model::Servo>(spec, 1));
+  send(rig, 1, wire::Write{26, {17}});
+  rig.run();
+  send(rig, 1, wire::UnknownInstruction{0x20, {}});
+  rig.run();
+  const auto& d = rig.link.deliveries();
+  REQUIRE(d.size() == 2);
+  CHECK(status(d[0]) == "id=1 error=0x40");
+  CHECK(status(d[1]) == "id=1 error=0x80");
+}
+
+TEST_CASE("FEETECH Response level 0 answers READ and PING only", "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  rig.bus.servos()[0]->table().set("response_status_level", 0);
+  send(rig, 1, wire::Write{41, {5}});
+  rig.run();
+  CHECK(rig.link.deliveries().empty());
+  CHECK(rig.bus.servos()[0]->table().get("acceleration") == 5);
+  send(rig, 1, wire::Read{41, 1});
+  rig.run();
+  send(rig, 1, wire::Ping{});
+  rig.run();
+  send(rig, kBroadcast, wire::SyncRead{41, 1, {1}});
+  rig.run();
+  CHECK(rig.link.deliveries().size() == 3);
+}
+
+TEST_CASE("FEETECH REG WRITE sets the Async write flag, ACTION applies it and clears it",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 2);
+  send(rig, 1, wire::RegWrite{41, {7}});
+  rig.run();
+  send(rig, 2, wire::RegWrite{41, {9}});
+  rig.run();
+  for (const auto& servo : rig.bus.servos()) {
+    CHECK(servo->table().get("async_write_flag") == 1);
+    CHECK(servo->table().get("acceleration") == 0);
+  }
+  rig.link.clear();
+  send(rig, kBroadcast, wire::Action{});
+  rig.run();
+  CHECK(rig.link.deliveries().empty());  // broadcast: "returns no data frame"
+  CHECK(rig.bus.servos()[0]->table().get("acceleration") == 7);
+  CHECK(rig.bus.servos()[1]->table().get("acceleration") == 9);
+  CHECK(rig.bus.servos()[0]->table().get("async_write_flag") == 0);
+}
+
+TEST_CASE("FEETECH Restart sends no status and the servo is silent for its 1800 ms boot",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  rig.bus.servos()[0]->table().set("acceleration", 33);
+  send(rig, 1, wire::Reboot{});
+  rig.run(10ms);
+  CHECK(rig.link.deliveries().empty());
+  CHECK(rig.bus.booting(*rig.bus.servos()[0]));
+  CHECK(rig.bus.servos()[0]->table().get("acceleration") == 0);  // RAM back to its initial value
+  rig.run(1790ms);
+  send(rig, 1, wire::Ping{});
+  rig.run();
+  CHECK(rig.link.deliveries().size() == 1);
+}
+
+TEST_CASE("Return delay in 2 us units, SMS counts a value below 50 as 50, HLS has none",
+          "[bus][feetech][timing]") {
+  const auto reply_after = [](const std::string& model, std::optional<std::int64_t> delay) {
+    BusRig rig;
+    model::Servo& servo = rig.add(model, 1);
+    if (delay) {
+      servo.table().set("return_delay_time", *delay);
+      servo.commit_deferred();
+    }
+    const std::size_t sent = send(rig, 1, wire::Ping{});
+    rig.run();
+    REQUIRE(rig.link.deliveries().size() == 1);
+    return rig.link.deliveries()[0].at - sim::SimTime{} - line(sent, kMbps) - line(6, kMbps) -
+           kProcessing;
+  };
+  CHECK(reply_after("feetech/sts3215", 10) == 20us);
+  CHECK(reply_after("feetech/sts3215", 0) == 0us);
+  CHECK(reply_after("feetech/sm8512bl", 0) == 100us);
+  CHECK(reply_after("feetech/sm8512bl", 60) == 120us);
+  CHECK(reply_after("feetech/hls3625m", std::nullopt) == 0us);
+}
+
+TEST_CASE("FEETECH status bits are the live Servo status of the protection model",
+          "[bus][feetech][faults]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  servo.motion().set_injected(model::fault_set(model::HardwareFault::Overheating) |
+                              model::fault_set(model::HardwareFault::Overload));
+  rig.run(10ms);
+  send(rig, 1, wire::Read{65, 1});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  // Overheat (4) and overload (32), in the error byte and in Servo status.
+  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x24 params=24");
+  // Both are selected in Unload condition (44 at the factory): the motor is unloaded.
+  CHECK(servo.table().get("torque_limit") == 0);
+  servo.motion().set_injected(0);
+  rig.run(10ms);
+  send(rig, 1, wire::Ping{});
+  rig.run();
+  // The condition is gone, so are its bits; Torque limit stays 0 until it is written (the
+  // Protocol 1.0 Alarm Shutdown rule, which FEETECH's Unload condition follows here).
+  CHECK(status(rig.link.deliveries()[1]) == "id=1 error=0x00");
+  rig.bus.catch_up();
+  CHECK(servo.table().get("torque_limit") == 0);
+  ask(rig, 1, wire::Write{48, le16(1000)});
+  CHECK(servo.table().get("torque_limit") == 1000);
+}
+
+TEST_CASE("An STS3215 moves to its goal: Present = Actual - Position offset",
+          "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{55, {0}});                 // Lock 0
+  ask(rig, 1, wire::Write{31, le16(0x0800 | 100)});  // Position offset -100 (sign bit 11)
+  CHECK(servo.table().get("position_offset") == -100);
+  CHECK(servo.table().get("present_position") == 2148);  // the shaft at 2048, minus -100
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, le16(3000)});
+  rig.run(2s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_position") - 3000) <= 2);
+  CHECK(servo.table().get("moving_flag") == 0);
+}
+
+TEST_CASE("STS Operating mode 1 turns at Running speed, 2 drives open-loop PWM, 3 holds",
+          "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{33, {1}});                 // constant speed (wheel)
+  ask(rig, 1, wire::Write{46, le16(0x8000 | 300)});  // -300 steps/s (sign bit 15)
+  ask(rig, 1, wire::Write{40, {1}});
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_speed") + 300) <= 3);
+  CHECK(servo.table().get("moving_flag") == 1);
+  ask(rig, 1, wire::Write{33, {2}});  // PWM open loop
+  ask(rig, 1, wire::Write{44, le16(500)});
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("present_speed") > 0);
+  ask(rig, 1, wire::Write{33, {3}});  // step: not modelled, the motor holds still
+  rig.run(1s);
+  rig.bus.catch_up();
+  const std::int64_t held = servo.table().get("present_position");
+  rig.run(1s);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("present_position") == held);
+}
+
+TEST_CASE("STS Torque switch 128 calibrates Present Position to 2048", "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, le16(1000)});
+  rig.run(2s);
+  rig.bus.catch_up();
+  REQUIRE(std::abs(servo.table().get("present_position") - 1000) <= 2);
+  ask(rig, 1, wire::Write{40, {128}});
+  CHECK(servo.table().get("present_position") == 2048);
+  CHECK(servo.table().get("torque_switch") == 1);  // the torque stays as it was
+}
+
+TEST_CASE("FEETECH position calibration, status reset, parameter backup and recovery",
+          "[bus][feetech]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::PositionCalibration{1024});
+  CHECK(servo.table().get("present_position") == 1024);
+  ask(rig, 1, wire::PositionCalibration{});
+  CHECK(servo.table().get("present_position") == 2048);
+  ask(rig, 1, wire::StatusReset{});
+  // Backup and recovery need the EEPROM unlocked (Lock 0); recovery keeps the ID.
+  ask(rig, 1, wire::Write{55, {0}});
+  ask(rig, 1, wire::Write{26, {5}});
+  ask(rig, 1, wire::ParameterBackup{});
+  ask(rig, 1, wire::Write{26, {9}});
+  ask(rig, 1, wire::Write{5, {7}});
+  REQUIRE(servo.id() == 7);
+  ask(rig, 7, wire::ParameterRecovery{});
+  CHECK(servo.table().get("positive_deadband") == 5);
+  CHECK(servo.id() == 7);
+  ask(rig, 7, wire::Write{55, {1}});
+  ask(rig, 7, wire::Write{26, {11}});
+  ask(rig, 7, wire::ParameterRecovery{});  // locked: refused
+  rig.run();
+  CHECK(servo.table().get("positive_deadband") == 11);
+  // Every one of them was answered.
+  CHECK(rig.link.deliveries().size() == 12);
+}
+
+TEST_CASE(
+    "FEETECH Lock: EEPROM writes are never refused; only those made at Lock 0 survive power-off",
+    "[bus][feetech][lock]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  REQUIRE(servo.table().get("lock_flag") == 1);  // the wiki's initial value
+  ask(rig, 1, wire::Write{26, {4}});             // Positive deadband, EEPROM, while locked
+  ask(rig, 1, wire::Write{55, {0}});
+  ask(rig, 1, wire::Write{27, {6}});  // Negative deadband, while unlocked
+  ask(rig, 1, wire::Write{55, {1}});
+  REQUIRE(rig.link.deliveries().size() == 4);
+  for (const auto& d : rig.link.deliveries()) {
+    CHECK(status(d) == "id=1 error=0x00");
+  }
+  CHECK(servo.table().get("positive_deadband") == 4);  // in effect until power-off
+  // The state file (--state) keeps what a power cycle keeps.
+  const app::ServoState state = app::capture_state(servo.table());
+  const auto value_in_state = [&](const std::string& key) {
+    for (const auto& [k, v] : state.eeprom) {
+      if (k == key) {
+        return v;
+      }
+    }
+    return std::int64_t{-1};
+  };
+  CHECK(value_in_state("positive_deadband") == 1);
+  CHECK(value_in_state("negative_deadband") == 6);
+  rig.bus.power_on(servo);
+  rig.run(2s);
+  CHECK(servo.table().get("positive_deadband") == 1);
+  CHECK(servo.table().get("negative_deadband") == 6);
+  CHECK(servo.table().get("lock_flag") == 1);
+}
+
+TEST_CASE("A new ID written while locked answers at once and is gone after a Restart",
+          "[bus][feetech][lock]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{5, {9}});
+  CHECK(servo.id() == 9);
+  ask(rig, 9, wire::Reboot{});
+  rig.run(2s);
+  CHECK(servo.id() == 1);
+}
+
+}  // namespace dxlemu
