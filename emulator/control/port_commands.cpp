@@ -1,6 +1,7 @@
 #include "control/port_commands.hpp"
 
 #include <array>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -9,18 +10,20 @@
 namespace dxlemu::control {
 namespace {
 
-/// The key state of a servo that `list` shows, each only when the model has the item.
+/// The key state of a servo that `list` shows, each only when the model has the item: the first
+/// of `items` it has (DYNAMIXEL's key, then FEETECH's where it differs).
 struct SummaryItem {
   std::string_view field;
-  std::string_view item;
+  std::array<std::string_view, 2> items;
   bool boolean;
 };
-constexpr std::array<SummaryItem, 5> kSummaryItems = {{
-    {"torque", "torque_enable", true},
-    {"present_position", "present_position", false},
-    {"present_temperature", "present_temperature", false},
-    {"hardware_error_status", "hardware_error_status", false},
-    {"moving", "moving", true},
+constexpr std::array<SummaryItem, 6> kSummaryItems = {{
+    {"torque", {"torque_enable", "torque_switch"}, true},
+    {"present_position", {"present_position"}, false},
+    {"present_temperature", {"present_temperature"}, false},
+    {"hardware_error_status", {"hardware_error_status"}, false},
+    {"servo_status", {"servo_status"}, false},
+    {"moving", {"moving", "moving_flag"}, true},
 }};
 
 // DYNAMIXEL's protocols by number (1, 2), FEETECH's by name ("feetech"), as traces write them.
@@ -40,13 +43,18 @@ ordered_json servo_summary(const model::Servo& servo) {
       {"baud", servo.baud_bps()},
   };
   for (const SummaryItem& summary : kSummaryItems) {
-    if (const auto index = servo.spec().index_of(summary.item)) {
+    for (const std::string_view key : summary.items) {
+      const auto index = key.empty() ? std::nullopt : servo.spec().index_of(key);
+      if (!index) {
+        continue;
+      }
       const std::int64_t value = servo.table().get(*index);
       if (summary.boolean) {
         out[std::string(summary.field)] = value != 0;
       } else {
         out[std::string(summary.field)] = value;
       }
+      break;
     }
   }
   return out;

@@ -144,6 +144,11 @@ class FeetechSessionTest(unittest.TestCase):
         for ident in IDS:
             shaft = self.control.call("get", servo=ident, item="present_position")["value"]
             self.assertLessEqual(abs(shaft - goals[ident]), 3)
+        # `list` names the protocol and shows FEETECH's torque switch, moving flag and status.
+        servos = self.control.call("list")["ports"][0]["servos"]
+        self.assertEqual([s["protocol"] for s in servos], ["feetech"] * len(IDS))
+        self.assertTrue(all(s["torque"] and "moving" in s and s["servo_status"] == 0
+                            for s in servos), servos)
 
     def test_3_a_hardware_fault_shows_in_the_status_error_byte_and_servo_status(self):
         rule = self.control.call("fault.add", rule={"action": "hardware_error", "kind": "overheating",
