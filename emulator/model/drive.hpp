@@ -10,11 +10,14 @@
 namespace dxlemu::model {
 
 /// The control modes the motion model knows, whatever items select them.
-enum class Mode { Current, Velocity, Position, Extended, CurrentPosition, Pwm };
+/// Step: FEETECH's step mode, where Goal Position is a number of steps to move from where the
+/// shaft is, and Present Position the steps still to go.
+enum class Mode { Current, Velocity, Position, Extended, CurrentPosition, Pwm, Step };
 
 /// True for the modes that follow Goal Position.
 inline bool is_position_mode(std::optional<Mode> mode) {
-  return mode == Mode::Position || mode == Mode::Extended || mode == Mode::CurrentPosition;
+  return mode == Mode::Position || mode == Mode::Extended || mode == Mode::CurrentPosition ||
+         mode == Mode::Step;
 }
 
 /// How a family's goal items select a control mode and move the motor, and how the motor shows

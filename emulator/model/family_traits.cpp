@@ -160,13 +160,14 @@ constexpr FaultBits kHlsFaultBits = {.input_voltage = wire::feetech_error::kVolt
                                      .encoder = wire::feetech_error::kAngleSensor};
 
 // FEETECH Operating mode (address 33): 0 position, 1 constant speed (wheel), 2 PWM open loop,
-// 3 step (not modelled: no source says how a step goal moves).
+// 3 step ("the number of step progress is represented by parameter 0x2a").
 constexpr OperatingModeValues kFeetechModes = {.current = std::nullopt,
                                                .velocity = 1,
                                                .position = 0,
                                                .extended = std::nullopt,
                                                .current_position = std::nullopt,
-                                               .pwm = 2};
+                                               .pwm = 2,
+                                               .step = 3};
 
 // Torque switch 128 "calibrate the current position to 2048" (STS and SMS tables).
 constexpr std::int64_t kTorqueCalibrate = 128;
@@ -188,6 +189,7 @@ constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .name = "scs",
                                .maker = Maker::Feetech,
                                .drive = DriveKind::OperatingMode,
+                               .goal_clamped_to_position_limits = true,
                                .torque_on_goal = TorqueOnGoal::Holds,
                                .error_reaction = ErrorReaction::AlarmShutdown,
                                .fault_bits = kScsFaultBits,

@@ -108,6 +108,7 @@ struct OperatingModeValues {
   std::optional<std::int64_t> extended = 4;          ///< extended (multi-turn) position control
   std::optional<std::int64_t> current_position = 5;  ///< current-based position control
   std::optional<std::int64_t> pwm = 16;              ///< PWM (open loop) control
+  std::optional<std::int64_t> step = std::nullopt;   ///< FEETECH step mode (relative goals)
 };
 
 /// The status error bits a FEETECH servo sets when it refuses a packet, where FEETECH defines
@@ -153,6 +154,10 @@ struct FamilyTraits {
   /// Both angle limits at this value select multi-turn mode: any Goal Position, the position
   /// absolute over turns (MX 1.0: 4095, includes/control_table_mx_angle_limit.md).
   std::optional<std::int64_t> multi_turn_angle_limit = std::nullopt;
+  /// In position mode the motor goes no further than Min ~ Max Position Limit, whatever Goal
+  /// Position says (FEETECH Minimum/Maximum angle limit, "the limit of motion stroke"); both at
+  /// 0 lift the limit ("0 when the multi-turn absolute position control is adopted").
+  bool goal_clamped_to_position_limits = false;
   /// EEPROM items are locked while Torque Enable is 1 (includes/control_table.md); otherwise
   /// through the Lock item, when the model has one.
   bool eeprom_locked_by_torque = false;

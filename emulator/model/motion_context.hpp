@@ -64,6 +64,9 @@ struct MotionContext {
   bool step_profile = false;
   /// Velocity Control Mode: the ramped velocity, pulses/ms; also what a move starts from.
   double velocity_demand = 0;
+  /// The most torque protection leaves the motor, a share of its stall torque: FEETECH's
+  /// Holding torque while its overload protection holds; 1 otherwise.
+  double protection_torque_share = 1;
 
   /// The item's value, or `otherwise` when the model lacks it.
   std::int64_t get(const std::optional<std::size_t>& item, std::int64_t otherwise = 0) const {

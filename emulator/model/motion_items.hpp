@@ -31,6 +31,11 @@ struct MotionItems {
   // `servo_status` FEETECH's (the live error bits of its status packets).
   std::optional<std::size_t> temperature_limit, min_voltage_limit, max_voltage_limit, shutdown,
       hardware_error_status, error_code, controller_state, servo_status;
+  // FEETECH's timed protections: Overload torque (1 % of full torque) held for Protection time
+  // (10 ms) trips the overload protection, which leaves the motor Holding torque (1 %); Present
+  // current at Protection current for Overcurrent protection time (10 ms) trips overcurrent.
+  std::optional<std::size_t> overload_torque, overload_time, holding_torque, protection_current,
+      overcurrent_time;
   /// Error Code History 1, 2, ... (oldest first), as many as the model has.
   std::vector<std::size_t> error_code_history;
   // Present values. `current` is MX 1.0 Current(68), a reading although the page makes it RW.

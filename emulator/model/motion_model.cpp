@@ -119,8 +119,26 @@ void MotionModel::on_goal_position(std::int64_t goal) {
     }
   }
   if (position_mode()) {
-    drive_->plan_to(drive_->raw_goal(goal));
+    drive_->plan_to(goal_target(goal));
   }
+}
+
+double MotionModel::goal_target(std::int64_t goal) const {
+  const MotionItems& items = motion_.items;
+  if (drive_->mode() == Mode::Step) {
+    // FEETECH step mode: "the number of step progress is represented by parameter 0x2a", counted
+    // from where the shaft is when the goal is written (docs/feetech.md "Motion").
+    return motion_.motor.state().position + motion_.direction() * static_cast<double>(goal);
+  }
+  if (motion_.traits.goal_clamped_to_position_limits && items.min_position_limit &&
+      items.max_position_limit && drive_->mode() == Mode::Position) {
+    const std::int64_t lo = motion_.get(items.min_position_limit);
+    const std::int64_t hi = motion_.get(items.max_position_limit);
+    if (lo != 0 || hi != 0) {
+      goal = std::clamp(goal, lo, std::max(lo, hi));
+    }
+  }
+  return drive_->raw_goal(goal);
 }
 
 void MotionModel::on_torque_enable(std::int64_t old_value, std::int64_t new_value) {

@@ -95,6 +95,9 @@ class MotionModel {
   void cool_until(sim::SimTime now);
   DriveCommand command();
   bool position_mode() const { return is_position_mode(drive_->mode()); }
+  /// The motor position, pulses, a Goal Position write of `goal` sends the motor to: relative
+  /// in step mode, within the position limits where the family clamps goals.
+  double goal_target(std::int64_t goal) const;
   void hold();
   void publish();
   void absorb_device_changes();

@@ -42,7 +42,8 @@ class OperatingModeDrive final : public Drive {
         {v.position, Mode::Position},
         {v.extended, Mode::Extended},
         {v.current_position, Mode::CurrentPosition},
-        {v.pwm, Mode::Pwm}};
+        {v.pwm, Mode::Pwm},
+        {v.step, Mode::Step}};
     for (const auto& [mode_value, mode] : modes) {
       if (mode_value == value) {
         return mode;
@@ -62,6 +63,9 @@ class OperatingModeDrive final : public Drive {
     if (motion_.traits.torque_limit_caps_torque && items.torque_limit) {
       cap = std::min(cap, static_cast<double>(motion_.get(items.torque_limit)) / kLoadFullScale *
                               p.stall_torque_nm);
+    }
+    if (motion_.protection_torque_share < 1) {
+      cap = std::min(cap, motion_.protection_torque_share * p.stall_torque_nm);
     }
     if (mode() == Mode::CurrentPosition && items.goal_current && p.current_unit_a) {
       cap = std::min(cap, std::abs(static_cast<double>(motion_.get(items.goal_current))) *
@@ -107,6 +111,7 @@ class OperatingModeDrive final : public Drive {
       case Mode::Position:
       case Mode::Extended:
       case Mode::CurrentPosition:
+      case Mode::Step:
         c.kind = DriveCommand::Kind::Follow;
         c.target = motion_.profile ? motion_.profile->at(motion_.profile_elapsed_ms()).position
                                    : motion_.motor.state().position;
@@ -165,9 +170,12 @@ class OperatingModeDrive final : public Drive {
       return;
     }
     // Only where the goal could have been written: within the position limits in Position mode.
+    const auto m = mode();
+    if (m == Mode::Step) {
+      return;  // Goal Position is a step count there, not a place
+    }
     const ItemSpec& goal = motion_.table.spec().items[*goal_item];
     const std::int64_t present = motion_.present_position();
-    const auto m = mode();
     if (goal.in_range(present) || m == Mode::Extended || m == Mode::CurrentPosition) {
       motion_.put(goal_item, present);
     }
@@ -187,7 +195,7 @@ class OperatingModeDrive final : public Drive {
     const MotorState& s = motion_.motor.state();
     const MotionItems& items = motion_.items;
     const double dir = motion_.direction();
-    motion_.put(items.present_position, motion_.present_position());
+    motion_.put(items.present_position, present_position());
     const std::int64_t velocity = round_to(dir * s.velocity / p.velocity_unit);
     motion_.put(items.present_velocity, velocity);
     motion_.put(items.present_speed, velocity);  // FEETECH's Present speed
@@ -206,7 +214,7 @@ class OperatingModeDrive final : public Drive {
     const bool torque_on = motion_.torque_on();
     const bool running = motion_.profile_running() && torque_on;
     const bool positional = is_position_mode(mode()) && torque_on;
-    if (positional && motion_.profile) {
+    if (positional && motion_.profile && mode() != Mode::Step) {
       const ProfilePoint point = motion_.profile->at(motion_.profile_elapsed_ms());
       motion_.put(items.position_trajectory, round_to(dir * point.position + motion_.homing()));
       motion_.put(items.velocity_trajectory, round_to(dir * point.velocity / p.velocity_unit));
@@ -222,6 +230,17 @@ class OperatingModeDrive final : public Drive {
   }
 
  private:
+  /// Present Position: where the shaft is; in FEETECH step mode "the step difference between
+  /// the present position and the goal position", the steps still to go (docs/feetech.md).
+  std::int64_t present_position() const {
+    if (mode() != Mode::Step) {
+      return motion_.present_position();
+    }
+    const double position = motion_.motor.state().position;
+    const double goal = motion_.profile ? motion_.profile->goal() : position;
+    return round_to(motion_.direction() * (goal - position));
+  }
+
   /// A time item (DYNAMIXEL-Y Profile Time / Profile Acceleration Time) in milliseconds.
   double time_ms(const std::optional<std::size_t>& item) const {
     return static_cast<double>(motion_.get(item)) * motion_.items.profile_time_unit_ms;

@@ -1,6 +1,7 @@
 #include "model/protection.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace dxlemu::model {
 namespace {
@@ -11,6 +12,10 @@ namespace {
 constexpr std::int64_t kControllerInverterOff = 2;
 constexpr std::int64_t kControllerRunning = 5;
 constexpr std::int64_t kControllerHwFault = 8;
+
+// FEETECH's protection items: thresholds in 1 % of full torque, times in 10 ms.
+constexpr double kPercent = 100;
+constexpr double kTenMs = 10;
 
 }  // namespace
 
@@ -61,9 +66,8 @@ void Protection::install_hooks() {
     // Alarm Shutdown zeroes Torque Limit; writing it again makes the motor usable
     // (ax-legacy-page-description-sections.md "Torque Limit").
     table.on_write("torque_limit", [this](std::size_t, std::int64_t, std::int64_t) {
-      overload_latched_ = false;
-      v1_errors_ &=
-          static_cast<std::uint8_t>(~fault_bit(motion_.traits.fault_bits, HardwareFault::Overload));
+      v1_errors_ &= static_cast<std::uint8_t>(~fault_bits(motion_.traits.family, latched_));
+      latched_ = 0;
     });
   }
 }
@@ -83,9 +87,17 @@ void Protection::check() {
       s.temperature_c >= static_cast<double>(motion_.get(items.temperature_limit))) {
     active |= fault_set(HardwareFault::Overheating);
   }
-  if (at_limit_ms_ >= motion_.motor.params().overload_ms) {
+  if (items.overload_torque && items.overload_time) {
+    if (timed_overload()) {
+      active |= fault_set(HardwareFault::Overload);
+    }
+  } else if (at_limit_ms_ >= motion_.motor.params().overload_ms) {
     active |= fault_set(HardwareFault::Overload);
-    overload_latched_ = true;
+    latched_ |= fault_set(HardwareFault::Overload);
+  }
+  if (timed_overcurrent()) {
+    active |= fault_set(HardwareFault::ElectricalShock);
+    latched_ |= fault_set(HardwareFault::ElectricalShock);
   }
   switch (motion_.traits.error_reaction) {
     case ErrorReaction::AlarmShutdown:
@@ -100,14 +112,72 @@ void Protection::check() {
   }
 }
 
+bool Protection::timed_overload() {
+  const MotionItems& items = motion_.items;
+  const MotorState& s = motion_.motor.state();
+  const double tick_ms = motion_.motor.tick_ms();
+  const bool torque_on = motion_.torque_on();
+  // An injected overload trips the protection as a real one would, for as long as it is set.
+  const bool forced = (injected_ & fault_set(HardwareFault::Overload)) != 0;
+  if (holding_ && !forced) {
+    // The protection holds while the motor still gives all it is left (the shaft blocked or
+    // overpowered); once Holding torque does the job, the full torque is back (docs/feetech.md
+    // "Status bits": FEETECH does not say when the protection ends).
+    if (torque_on && s.at_limit) {
+      return true;
+    }
+    holding_ = false;
+    motion_.protection_torque_share = 1;
+  }
+  // "Maximum torque value that starts the overload protection timer; for example 80 means 80%
+  // of the maximum torque": of the full (stall) torque, the scale of Present load.
+  const double threshold = static_cast<double>(motion_.get(items.overload_torque)) / kPercent *
+                           motion_.motor.params().stall_torque_nm;
+  const double torque = std::abs(s.torque_nm);
+  const bool over = torque_on && torque > 0 && torque >= threshold;
+  over_torque_ms_ = over ? over_torque_ms_ + tick_ms : 0;
+  const double trip_ms = static_cast<double>(motion_.get(items.overload_time)) * kTenMs;
+  if (!forced && (!over || over_torque_ms_ < trip_ms)) {
+    return false;
+  }
+  const std::uint8_t load_bit = fault_bit(motion_.traits.family, HardwareFault::Overload);
+  if ((motion_.get(items.shutdown) & load_bit) != 0) {
+    over_torque_ms_ = 0;
+    // "Torque output after entering overload protection; for example 20 means 20% of the
+    // maximum torque".
+    holding_ = true;
+    motion_.protection_torque_share =
+        static_cast<double>(motion_.get(items.holding_torque)) / kPercent;
+  }
+  return true;
+}
+
+bool Protection::timed_overcurrent() {
+  const MotionItems& items = motion_.items;
+  const MotorParams& p = motion_.motor.params();
+  if (!items.protection_current || !items.overcurrent_time || !p.current_unit_a) {
+    return false;
+  }
+  const double limit =
+      static_cast<double>(motion_.get(items.protection_current)) * *p.current_unit_a;
+  const bool over =
+      motion_.torque_on() && limit > 0 && std::abs(motion_.motor.state().current_a) >= limit;
+  over_current_ms_ = over ? over_current_ms_ + motion_.motor.tick_ms() : 0;
+  return over &&
+         over_current_ms_ >= static_cast<double>(motion_.get(items.overcurrent_time)) * kTenMs;
+}
+
 void Protection::alarm_shutdown(FaultSet active) {
   // 1.0 Alarm Shutdown: Torque Limit goes to 0 while a selected error is present
-  // (includes/control_table_alarm_shutdown.md).
+  // (includes/control_table_alarm_shutdown.md). FEETECH's overload protection reacts with
+  // Holding torque instead (timed_overload()).
   const Family family = motion_.traits.family;
-  if (overload_latched_) {
-    active |= fault_set(HardwareFault::Overload);
+  active |= latched_;
+  FaultSet unloading = active;
+  if (motion_.items.overload_torque && motion_.items.overload_time) {
+    unloading &= static_cast<FaultSet>(~fault_set(HardwareFault::Overload));
   }
-  if ((fault_bits(family, active) & motion_.get(motion_.items.shutdown)) != 0) {
+  if ((fault_bits(family, unloading) & motion_.get(motion_.items.shutdown)) != 0) {
     motion_.put(motion_.items.torque_limit, 0);
     at_limit_ms_ = 0;
   }
@@ -235,8 +305,12 @@ std::uint8_t Protection::v1_error_bits() const {
 }
 
 void Protection::reset() {
-  overload_latched_ = false;
+  latched_ = 0;
   at_limit_ms_ = 0;
+  over_torque_ms_ = 0;
+  over_current_ms_ = 0;
+  holding_ = false;
+  motion_.protection_torque_share = 1;
   publish_controller_state();  // Startup Configuration may have turned torque on
 }
 

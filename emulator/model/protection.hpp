@@ -8,10 +8,12 @@
 namespace dxlemu::model {
 
 /// Detects one servo's hardware errors after each tick (supply voltage outside its limits,
-/// winding over Temperature Limit, the motor at its torque limit for the Overload time, and the
-/// errors forced from outside) and reacts as its family does (FamilyTraits::error_reaction):
-/// Alarm Shutdown, a latched Shutdown, or DYNAMIXEL-Y's Error Code. Keeps DYNAMIXEL-Y's
-/// Controller State(152) in step with torque and errors. docs/motion.md "Hardware errors".
+/// winding over Temperature Limit, the motor at its torque limit for the Overload time or, where
+/// the model has FEETECH's timed protections, over Overload torque for Protection time and over
+/// Protection current for Overcurrent protection time, and the errors forced from outside) and
+/// reacts as its family does (FamilyTraits::error_reaction): Alarm Shutdown, a latched Shutdown, or
+/// DYNAMIXEL-Y's Error Code. Keeps DYNAMIXEL-Y's Controller State(152) in step with torque and
+/// errors. docs/motion.md "Hardware errors".
 class Protection {
  public:
   /// Protection working on `motion`, which must outlive it.
@@ -43,6 +45,12 @@ class Protection {
  private:
   /// True while Error Code holds an error that keeps torque off (every one but Bus Watchdog).
   bool torque_off_error() const;
+  /// FEETECH's overload protection: true while it is tripped. Once tripped (with the load bit
+  /// in Unload condition) the motor keeps only Holding torque until it no longer needs more.
+  bool timed_overload();
+  /// FEETECH's overcurrent protection: true once Present current has been at Protection current
+  /// for Overcurrent protection time.
+  bool timed_overcurrent();
   void alarm_shutdown(FaultSet active);
   void latch(FaultSet active);
   void latch_error_code(FaultSet active, double volts);
@@ -53,9 +61,14 @@ class Protection {
 
   MotionContext& motion_;
   FaultSet injected_ = 0;
-  double at_limit_ms_ = 0;         // how long the motor has been at its torque limit
-  bool overload_latched_ = false;  // 1.0: until Torque Limit is written
-  std::uint8_t v1_errors_ = 0;     // 1.0 error bits from the last check
+  double at_limit_ms_ = 0;      // how long the motor has been at its torque limit
+  double over_torque_ms_ = 0;   // how long over FEETECH's Overload torque
+  double over_current_ms_ = 0;  // how long at FEETECH's Protection current
+  bool holding_ = false;        // FEETECH's overload protection leaves only Holding torque
+  // Errors that unloaded the motor and went with its torque (1.0 Overload, FEETECH overcurrent):
+  // reported until Torque Limit is written.
+  FaultSet latched_ = 0;
+  std::uint8_t v1_errors_ = 0;  // 1.0 error bits from the last check
 };
 
 }  // namespace dxlemu::model

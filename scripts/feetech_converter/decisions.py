@@ -125,12 +125,17 @@ _LEROBOT_SIGNS = ("lerobot: its sign-magnitude table (Present_Load 10, Homing_Of
                   "velocity 15) has no entry for PWM open-loop speed (44, the wiki's 'BIT10 is the direction bit') "
                   "or Present current (69, bit 15 in the SDK's ReadCurrent), which the model encodes too")
 
+# Maximum angle limit: the tables print 1~4095, yet say the value "is 0 when the multi turn
+# absolute position control is adopted"; the description wins (docs/feetech.md "Motion").
+_MULTI_TURN_MAX_LIMIT = ((0, 4095), "range: 0~4095; the table prints 1~4095, but its description says the "
+                                    "value is 0 in multi-turn absolute position control")
+
 FAMILIES = {
     "sts": Family(
         name="sts", byte_order="little",
         keys={5: "id", 67: "current_goal_position"},
         sign_bits=_STS_SMS_SIGN_BITS,
-        ranges={31: ((-2047, 2047), "range: -2047~2047, see sign_bit")},
+        ranges={31: ((-2047, 2047), "range: -2047~2047, see sign_bit"), 11: _MULTI_TURN_MAX_LIMIT},
         values={40: ([0, 1, 2, 128], "values: 0~2, and 128, which the description says calibrates the present "
                                      "position to 2048")},
         initials=_STS_SMS_INITIALS,
@@ -142,7 +147,7 @@ FAMILIES = {
         name="sms", byte_order="little",
         keys={5: "id", 7: "return_delay_time", 67: "current_goal_position"},
         sign_bits=_STS_SMS_SIGN_BITS,
-        ranges={31: ((-2047, 2047), "range: -2047~2047, see sign_bit"),
+        ranges={31: ((-2047, 2047), "range: -2047~2047, see sign_bit"), 11: _MULTI_TURN_MAX_LIMIT,
                 7: ((0, 253), "range: the wiki prints '0/50~253' and 'a setting below 50 still defaults to 50 "
                               "(100us)', so 0~253 is accepted and values below 50 act as 50 (its text's "
                               "'maximum settable return delay 254*2=508us' is not followed)")},
@@ -187,7 +192,7 @@ FAMILIES = {
                      "it says 'the write range is -1000~1000 and BIT10 is the direction bit', which the motion "
                      "model must read from the raw value"),
         },
-        ranges={},
+        ranges={11: _MULTI_TURN_MAX_LIMIT},
         values={},
         initials={
             14: (80, "initial: the wiki prints '–'; 80 (8.0 V) as the 7.4 V ST3215 spreadsheet"),

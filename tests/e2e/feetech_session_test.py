@@ -1,5 +1,6 @@
 """End-to-end: a LeRobot-style session on six FEETECH STS3215 at 1 Mbit/s over a real PTY
-(`dxlemu run --servo sts3215:1-6 --baud 1000000`, docs/feetech.md).
+(`dxlemu run --servo sts3215:1-6 --baud 1000000`, docs/feetech.md), and a scenario and a state
+file on a FEETECH port.
 
 It drives the bus as LeRobot's FeetechMotorsBus does through FEETECH's SDK: scan by ping
 (unicast, and a broadcast ping that collides with six servos answering at once), read the model
@@ -11,6 +12,7 @@ byte and in Servo status (65).
 
 The FEETECH frames are built here with a small local helper (checksum = ~sum & 0xFF).
 """
+import json
 import os
 import tempfile
 import time
@@ -26,6 +28,7 @@ MODEL_NUMBER, MIN_LIMIT, MAX_LIMIT, RETURN_DELAY = 3, 9, 11, 7
 HOMING_OFFSET, TORQUE, GOAL, LOCK, PRESENT, STATUS = 31, 40, 42, 55, 56, 65
 STS3215 = 777
 OVERHEAT = 0x04  # Servo status bit 2 (FTServo_Python ERRBIT_OVERHEAT)
+OVERLOAD = 0x20  # Servo status bit 5 (ERRBIT_OVERLOAD)
 
 
 def checksum(body: bytes) -> int:
@@ -165,6 +168,65 @@ class FeetechSessionTest(unittest.TestCase):
             self.assertEqual(self.ask(2, PING), (0, b""))  # the others are fine
         finally:
             self.control.call("fault.remove", rule=rule["rule"])
+
+
+class FeetechScenarioAndStateTest(unittest.TestCase):
+    """A scenario's timeline and a state file on a FEETECH port: an overload that a scenario
+    injects for a while, and EEPROM writes that survive a restart only if made unlocked."""
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.dir.cleanup)
+        self.link = os.path.join(self.dir.name, "ttyUSB0")
+        self.state = os.path.join(self.dir.name, "state.json")
+
+    def start(self, *extra: str) -> tuple[Daemon, Port]:
+        daemon = Daemon("--link", self.link, "--servo", "sts3215:1-2", "--baud", "1000000",
+                        "--state", self.state, *extra)
+        self.addCleanup(daemon.stop)
+        port = Port(self.link, 1_000_000)
+        self.addCleanup(port.close)
+        return daemon, port
+
+    def ask(self, port: Port, ident: int, instruction: int, params: bytes, size: int = 0):
+        port.write(frame(ident, instruction, params))
+        raw = port.read(6 + size, timeout=1.0 * timeout_scale())
+        self.assertEqual(len(raw), 6 + size, raw.hex(" "))
+        self.assertEqual(raw[-1], checksum(raw[2:-1]))
+        return raw[4], raw[5:-1]
+
+    def test_a_scenario_injects_an_overload_for_its_time(self):
+        scenario = os.path.join(self.dir.name, "overload.json")
+        with open(scenario, "w", encoding="utf-8") as f:
+            json.dump({"steps": [
+                {"at_ms": 0, "cmd": "fault.add",
+                 "rule": {"action": "hardware_error", "kind": "overload",
+                          "match": {"servos": [2]}, "until_ms": 1500}}]}, f)
+        _, port = self.start("--scenario", scenario)
+        error, data = self.ask(port, 2, READ, bytes([STATUS, 1]), 1)
+        self.assertEqual((error, data), (OVERLOAD, bytes([OVERLOAD])))
+        self.assertEqual(self.ask(port, 1, PING, b""), (0, b""))
+        deadline = time.monotonic() + 10 * timeout_scale()
+        while self.ask(port, 2, PING, b"")[0] != 0:
+            self.assertLess(time.monotonic(), deadline, "the overload outlived its until_ms")
+            time.sleep(0.05)
+
+    def test_eeprom_written_unlocked_survives_a_restart_written_locked_does_not(self):
+        daemon, port = self.start()
+        self.assertEqual(self.ask(port, 1, WRITE, bytes([LOCK, 0]))[0], 0)
+        self.assertEqual(self.ask(port, 1, WRITE, bytes([HOMING_OFFSET]) + word(123))[0], 0)
+        # Servo 2 stays locked (Lock 1 at power-on): its write is in effect until power-off.
+        self.assertEqual(self.ask(port, 2, WRITE, bytes([MIN_LIMIT]) + word(700))[0], 0)
+        self.assertEqual(self.ask(port, 2, READ, bytes([MIN_LIMIT, 2]), 2)[1], word(700))
+        port.close()
+        self.assertEqual(daemon.stop(), 0)
+        with open(self.state, encoding="utf-8") as f:
+            saved = json.load(f)["ports"]["dxl0"]
+        self.assertEqual(saved[0]["eeprom"]["position_offset"], 123)
+        self.assertEqual(saved[1]["eeprom"]["minimum_angle_limit"], 0)
+        _, port = self.start()
+        self.assertEqual(self.ask(port, 1, READ, bytes([HOMING_OFFSET, 2]), 2)[1], word(123))
+        self.assertEqual(self.ask(port, 2, READ, bytes([MIN_LIMIT, 2]), 2)[1], word(0))
 
 
 if __name__ == "__main__":

@@ -326,7 +326,7 @@ TEST_CASE("An STS3215 moves to its goal: Present = Actual - Position offset",
   CHECK(servo.table().get("moving_flag") == 0);
 }
 
-TEST_CASE("STS Operating mode 1 turns at Running speed, 2 drives open-loop PWM, 3 holds",
+TEST_CASE("STS Operating mode 1 turns at Running speed, 2 drives open-loop PWM",
           "[bus][feetech][motion]") {
   BusRig rig;
   sts_bus(rig, 1);
@@ -343,13 +343,143 @@ TEST_CASE("STS Operating mode 1 turns at Running speed, 2 drives open-loop PWM, 
   rig.run(1s);
   rig.bus.catch_up();
   CHECK(servo.table().get("present_speed") > 0);
-  ask(rig, 1, wire::Write{33, {3}});  // step: not modelled, the motor holds still
+}
+
+TEST_CASE("STS step mode moves Goal position steps from the shaft and reads the steps to go",
+          "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{33, {3}});
+  ask(rig, 1, wire::Write{40, {1}});
+  rig.bus.catch_up();
+  CHECK(servo.table().get("present_position") == 0);  // holding: nothing to go
+  ask(rig, 1, wire::Write{42, le16(5000)});           // more than a turn
+  rig.run(200ms);
+  rig.bus.catch_up();
+  const std::int64_t to_go = servo.table().get("present_position");
+  CHECK(to_go > 0);
+  CHECK(to_go < 5000);
+  CHECK(servo.table().get("moving_flag") == 1);
+  rig.run(5s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_position")) <= 2);
+  CHECK(servo.table().get("moving_flag") == 0);
+  ask(rig, 1, wire::Write{42, le16(0x8000 | 1500)});  // -1500 (sign bit 15)
+  rig.run(200ms);
+  send(rig, 1, wire::Read{56, 2});
+  rig.run();
+  // Going back: the steps to go are negative, sign-magnitude on the wire.
+  const auto& reply = rig.link.deliveries().back().bytes;
+  REQUIRE(reply.size() == 8);
+  CHECK((reply[6] & 0x80) != 0);
+  rig.run(5s);
+  ask(rig, 1, wire::Write{33, {0}});  // position mode: Present position is the place again,
+  rig.bus.catch_up();                 // within one turn
+  CHECK(std::abs(servo.table().get("present_position") - (2048 + 5000 - 1500) % 4096) <= 4);
+}
+
+TEST_CASE("FEETECH position mode stops at the angle limits, both 0 lift them",
+          "[bus][feetech][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  ask(rig, 1, wire::Write{55, {0}});
+  ask(rig, 1, wire::Write{9, le16(1000)});
+  ask(rig, 1, wire::Write{11, le16(3000)});
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, le16(3500)});
+  CHECK(servo.table().get("goal_position") == 3500);  // kept as written, no refusal
+  rig.run(2s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_position") - 3000) <= 2);
+  ask(rig, 1, wire::Write{42, le16(200)});
+  rig.run(2s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_position") - 1000) <= 2);
+  ask(rig, 1, wire::Write{9, le16(0)});
+  ask(rig, 1, wire::Write{11, le16(0)});  // multi-turn: no limit
+  ask(rig, 1, wire::Write{42, le16(6000)});
+  rig.run(5s);
+  rig.bus.catch_up();
+  CHECK(std::abs(servo.table().get("present_position") - 6000) <= 2);
+}
+
+TEST_CASE("FEETECH overload: over Overload torque for Protection time leaves Holding torque",
+          "[bus][feetech][faults][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  // Blocked, at the supply the servo started with (its 7.4 V, within its voltage limits).
+  model::Conditions blocked = servo.motion().conditions();
+  blocked.blocked = true;
+  servo.motion().set_conditions(blocked);
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, le16(3000)});  // the shaft cannot get there: full torque
+  rig.run(1900ms);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("servo_status") == 0);
+  CHECK(servo.table().get("present_load") == 1000);
+  rig.run(200ms);  // past Protection time, 200 x 10 ms
+  send(rig, 1, wire::Read{60, 2});
+  rig.run();
+  CHECK(status(rig.link.deliveries().back()) == "id=1 error=0x20 params=C8 00");  // 20.0 %
+  CHECK(servo.table().get("torque_limit") == 1000);  // held, not unloaded
+  SECTION("the protection ends when Holding torque does the job") {
+    model::Conditions free = blocked;
+    free.blocked = false;
+    servo.motion().set_conditions(free);
+    rig.run(3s);
+    rig.bus.catch_up();
+    CHECK(servo.table().get("servo_status") == 0);
+    CHECK(std::abs(servo.table().get("present_position") - 3000) <= 2);
+  }
+  SECTION("without the load bit in Unload condition the bit shows and the torque stays") {
+    BusRig other;
+    sts_bus(other, 1);
+    model::Servo& free = *other.bus.servos()[0];
+    free.motion().set_conditions(blocked);
+    ask(other, 1, wire::Write{19, {12}});  // overheat and current only
+    ask(other, 1, wire::Write{40, {1}});
+    ask(other, 1, wire::Write{42, le16(3000)});
+    other.run(2100ms);
+    other.bus.catch_up();
+    CHECK(free.table().get("servo_status") == 0x20);
+    CHECK(free.table().get("present_load") == 1000);
+  }
+}
+
+TEST_CASE("FEETECH overcurrent: Protection current for its time unloads the motor",
+          "[bus][feetech][faults][motion]") {
+  BusRig rig;
+  sts_bus(rig, 1);
+  model::Servo& servo = *rig.bus.servos()[0];
+  // Blocked, at the supply the servo started with (its 7.4 V, within its voltage limits).
+  model::Conditions blocked = servo.motion().conditions();
+  blocked.blocked = true;
+  servo.motion().set_conditions(blocked);
+  ask(rig, 1, wire::Write{55, {0}});
+  ask(rig, 1, wire::Write{28, le16(100)});  // 650 mA
+  ask(rig, 1, wire::Write{38, {50}});       // 500 ms
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, le16(3000)});
+  rig.run(450ms);
+  rig.bus.catch_up();
+  CHECK(servo.table().get("servo_status") == 0);
+  rig.run(100ms);
+  rig.bus.catch_up();
+  // Current (8), selected in Unload condition (44): Torque limit goes to 0, and the bit stays
+  // until Torque limit is written, though no current flows any more.
+  CHECK(servo.table().get("servo_status") == 0x08);
+  CHECK(servo.table().get("torque_limit") == 0);
   rig.run(1s);
   rig.bus.catch_up();
-  const std::int64_t held = servo.table().get("present_position");
-  rig.run(1s);
+  CHECK(servo.table().get("present_current") == 0);
+  CHECK(servo.table().get("servo_status") == 0x08);
+  ask(rig, 1, wire::Write{48, le16(1000)});
+  rig.run(10ms);
   rig.bus.catch_up();
-  CHECK(servo.table().get("present_position") == held);
+  CHECK((servo.table().get("servo_status") & 0x08) == 0);
 }
 
 TEST_CASE("STS Torque switch 128 calibrates Present Position to 2048", "[bus][feetech][motion]") {
