@@ -14,20 +14,18 @@ using nlohmann::ordered_json;
 constexpr const char* kFormat = "dxlemu-state";
 constexpr int kVersion = 1;
 
-// Non-volatile items: writable EEPROM, and the Hybrid area (DYNAMIXEL-Y), whose saved values a
-// reboot restores.
-bool kept(const model::ItemSpec& item) {
+}  // namespace
+
+bool is_non_volatile(const model::ItemSpec& item) {
   return (item.area == model::Area::Eeprom || item.area == model::Area::Hybrid) &&
          item.access == model::Access::ReadWrite;
 }
-
-}  // namespace
 
 ServoState capture_state(const model::ControlTable& table) {
   ServoState state{table.spec().name, {}};
   for (std::size_t i = 0; i < table.spec().items.size(); ++i) {
     const model::ItemSpec& item = table.spec().items[i];
-    if (kept(item)) {
+    if (is_non_volatile(item)) {
       // What a power cycle would bring back: Hybrid items' saved values, FEETECH EEPROM items'
       // last value written while the Lock flag was 0.
       state.eeprom.emplace_back(item.key, table.kept_value(i));
@@ -64,7 +62,7 @@ void restore_state(model::ControlTable& table, const ServoState& state, const st
     if (item == nullptr) {
       throw ConfigError(origin, item_at, state.model + " has no item \"" + key + "\"");
     }
-    if (!kept(*item)) {
+    if (!is_non_volatile(*item)) {
       throw ConfigError(origin, item_at, "is not a writable EEPROM item");
     }
     if (!item->in_range(value)) {

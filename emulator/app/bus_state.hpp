@@ -22,6 +22,10 @@ struct ServoState {
 /// Every port's servos, by port name, in the port's bus order (docs/config.md "State file").
 using BusState = std::map<std::string, std::vector<ServoState>>;
 
+/// True for the items a servo keeps across power cycles, which a state file holds: writable
+/// EEPROM, and the Hybrid area (DYNAMIXEL-Y), whose saved values a reboot restores.
+bool is_non_volatile(const model::ItemSpec& item);
+
 /// The writable EEPROM items of `table`, and the saved values of its Hybrid items.
 ServoState capture_state(const model::ControlTable& table);
 

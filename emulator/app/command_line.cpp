@@ -26,14 +26,18 @@ std::string unknown_family(const std::string& name) {
   return "unknown family \"" + name + "\" (known: " + model::family_names() + ")";
 }
 
+// --models, which every subcommand that loads the model library takes.
+void add_models_option(CLI::App& cmd, CommandLine& line) {
+  cmd.add_option("--models", line.model_dirs,
+                 "Also load every *.json model file of DIR (repeatable); a file replaces the "
+                 "shipped model of the same name")
+      ->check(CLI::ExistingDirectory);
+}
+
 CLI::App* add_models(CLI::App& app, CommandLine& line) {
   auto* models =
       app.add_subcommand("models", "List the model library: name, model number, protocols");
-  models
-      ->add_option("--models", line.model_dirs,
-                   "Also load every *.json model file of DIR (repeatable); a file replaces the "
-                   "shipped model of the same name")
-      ->check(CLI::ExistingDirectory);
+  add_models_option(*models, line);
   ModelsArguments& filters = line.models;
   models
       ->add_option("--family", filters.family,
@@ -60,11 +64,40 @@ CLI::App* add_check(CLI::App& app, CommandLine& line) {
   check->add_option("FILE", line.check_file, "The config file (docs/config.md)")
       ->required()
       ->type_name("FILE");
-  check
-      ->add_option("--models", line.model_dirs,
-                   "Also load every *.json model file of DIR (repeatable)")
-      ->check(CLI::ExistingDirectory);
+  add_models_option(*check, line);
   return check;
+}
+
+CLI::App* add_clone(CLI::App& app, CommandLine& line) {
+  CloneArguments& clone = line.clone;
+  auto* cmd = app.add_subcommand(
+      "clone", "Scan a real bus (read only) and write the config that serves it as it is");
+  cmd->add_option("PORT", clone.port, "The serial device the bus is on, e.g. /dev/ttyUSB0")
+      ->required()
+      ->type_name("PORT");
+  cmd->add_option("--out", clone.out, "Write the config to FILE (default: stdout)")
+      ->type_name("FILE");
+  cmd->add_option("--name", clone.name, "The port's name in the config")->capture_default_str();
+  cmd->add_option("--link", clone.link, "The symlink the cloned port gets in the config")
+      ->type_name("PATH");
+  cmd->add_option("--baud", clone.bauds,
+                  "Only this rate, bit/s (repeatable; default: every rate a model offers, "
+                  "1000000, 57600 and 115200 first)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--protocol", clone.protocols,
+                  "Only this protocol: 1, 2 or feetech (repeatable; default: all)")
+      ->check(CLI::IsMember({"1", "2", "feetech"}));
+  cmd->add_option("--ids", clone.ids,
+                  "The IDs the Protocol 1.0 and FEETECH sweep pings, FIRST-LAST (2.0 finds "
+                  "every ID with one broadcast Ping)")
+      ->capture_default_str();
+  cmd->add_option("--timeout-ms", clone.timeout_ms,
+                  "How long to wait for a reply: 34 suits a USB adapter at its 16 ms latency "
+                  "timer; 5 is plenty on a dxlemu PTY")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  add_models_option(*cmd, line);
+  return cmd;
 }
 
 // run's options that say which servos there are and how they speak.
@@ -87,9 +120,7 @@ void add_bus_options(CLI::App& run, CommandLine& line) {
           ->capture_default_str();
   servo_option->excludes(config_option);
   link_option->excludes(config_option);
-  run.add_option("--models", line.model_dirs,
-                 "Also load every *.json model file of DIR (repeatable)")
-      ->check(CLI::ExistingDirectory);
+  add_models_option(run, line);
   run.add_option("--baud", line.baud,
                  "Set every servo's Baud Rate to BPS (an error if a model cannot do it); "
                  "default: each model's factory rate or the config's")
@@ -267,6 +298,7 @@ Subcommands define_command_line(CLI::App& app, CommandLine& line) {
   add_daemon_options(*subcommands.run, line);
   subcommands.ctl = add_ctl(app, line);
   subcommands.exec = add_exec(app, line);
+  subcommands.clone = add_clone(app, line);
   return subcommands;
 }
 

@@ -28,6 +28,18 @@ struct ModelsArguments {
   std::string name;                     ///< --name, a fragment of the name or title; empty: any
 };
 
+/// `dxlemu clone`'s arguments (docs/robots.md "Cloning a real bus").
+struct CloneArguments {
+  std::string port;                    ///< PORT: the serial device
+  std::string out;                     ///< --out FILE; empty: stdout
+  std::string name = "dxl0";           ///< --name: the port's name in the config
+  std::string link;                    ///< --link: the cloned port's link in the config
+  std::vector<std::uint32_t> bauds;    ///< --baud, repeatable; empty: every rate of the library
+  std::vector<std::string> protocols;  ///< --protocol: "1", "2", "feetech"; empty: all
+  std::string ids = "0-253";           ///< --ids FIRST-LAST, for the 1.0 and FEETECH sweep
+  int timeout_ms = 34;                 ///< --timeout-ms
+};
+
 /// Everything the command line can say, as parsed: the defaults until then.
 struct CommandLine {
   /// --models of every subcommand.
@@ -50,6 +62,7 @@ struct CommandLine {
   CtlArguments ctl;
   ModelsArguments models;
   ExecArguments exec;
+  CloneArguments clone;
 };
 
 /// The subcommands, to ask which one was given.
@@ -59,6 +72,7 @@ struct Subcommands {
   CLI::App* run = nullptr;
   CLI::App* ctl = nullptr;
   CLI::App* exec = nullptr;
+  CLI::App* clone = nullptr;
 };
 
 /// The servos `dxlemu run` serves without --servo or --config (README): three XM430-W350 at

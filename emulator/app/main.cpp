@@ -2,6 +2,7 @@
 // pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config;
 // `dxlemu ctl` sends one request to a running emulator's control API; `dxlemu exec` runs a client
 // with the preload library that makes the emulator's PTYs behave like a USB adapter.
+// `dxlemu clone` scans a real bus and writes the config that serves it.
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include <map>
 
 #include "app/bus_config.hpp"
+#include "app/clone_command.hpp"
 #include "app/command_line.hpp"
 #include "app/ctl_request.hpp"
 #include "app/emulator.hpp"
@@ -328,6 +330,11 @@ int main(int argc, char** argv) {
       return kExitExecFailed;
     }
     return run_exec(line.exec);
+  }
+  if (given.clone->parsed()) {
+    return run_command([&] {
+      dxlemu::app::clone_bus(line.clone, load_library(line.model_dirs), std::cout, std::cerr);
+    });
   }
   if (given.check->parsed()) {
     return run_command([&] { check_config(line.check_file, line.model_dirs); });

@@ -1,0 +1,98 @@
+// The rate is set with TCSETS2/BOTHER, so any rate works; that needs <asm/termbits.h>, which
+// clashes with <termios.h>, so this file includes only the kernel's header.
+#include "io/serial_scan_link.hpp"
+
+#include <asm/termbits.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <system_error>
+
+#include "wire/instruction_encoder.hpp"
+
+namespace dxlemu::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+[[noreturn]] void fail(const std::string& what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
+
+}  // namespace
+
+SerialScanLink::SerialScanLink(const std::string& path)
+    : path_(path), fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC)) {
+  if (fd_ < 0) {
+    fail("cannot open " + path);
+  }
+}
+
+SerialScanLink::~SerialScanLink() {
+  ::close(fd_);
+}
+
+void SerialScanLink::set_baud(std::uint32_t bps) {
+  termios2 t{};
+  if (ioctl(fd_, TCGETS2, &t) != 0) {
+    fail(path_ + ": not a serial device (TCGETS2)");
+  }
+  // What cfmakeraw does, with the kernel's struct.
+  t.c_iflag &= ~(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+  t.c_oflag &= ~OPOST;
+  t.c_lflag &= ~(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
+  t.c_cflag &= ~(CSIZE | PARENB | CBAUD | CRTSCTS);
+  t.c_cflag |= CS8 | CREAD | CLOCAL | BOTHER;
+  t.c_ispeed = bps;
+  t.c_ospeed = bps;
+  if (ioctl(fd_, TCSETS2, &t) != 0) {
+    fail(path_ + ": cannot set " + std::to_string(bps) + " bps");
+  }
+  ioctl(fd_, TCFLSH, TCIOFLUSH);
+}
+
+std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::InstructionPacket& packet,
+                                                         std::size_t max_replies,
+                                                         std::chrono::microseconds timeout) {
+  ioctl(fd_, TCFLSH, TCIFLUSH);
+  const std::vector<std::uint8_t> bytes = wire::encode_instruction(packet);
+  std::size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n = ::write(fd_, bytes.data() + sent, bytes.size() - sent);
+    if (n < 0 && errno != EINTR && errno != EAGAIN) {
+      fail(path_ + ": write");
+    }
+    sent += n > 0 ? static_cast<std::size_t>(n) : 0;
+  }
+  // The framer takes arrival times; time since the send stands in for the simulated time.
+  const Clock::time_point start = Clock::now();
+  app::StatusReader reader(packet.protocol);
+  std::vector<wire::StatusPacket> replies;
+  std::array<std::uint8_t, 512> buffer{};
+  Clock::time_point give_up = start + timeout;
+  while (replies.size() < max_replies) {
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(give_up - Clock::now());
+    pollfd p{fd_, POLLIN, 0};
+    if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) {
+      break;
+    }
+    const ssize_t n = ::read(fd_, buffer.data(), buffer.size());
+    if (n < 0 && errno != EINTR && errno != EAGAIN) {
+      fail(path_ + ": read");
+    }
+    if (n <= 0) {
+      continue;
+    }
+    const Clock::time_point now = Clock::now();
+    reader.feed(std::span(buffer).first(static_cast<std::size_t>(n)),
+                sim::SimTime{std::chrono::duration_cast<sim::SimDuration>(now - start)}, replies);
+    give_up = now + timeout;
+  }
+  return replies;
+}
+
+}  // namespace dxlemu::io
