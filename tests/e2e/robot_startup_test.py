@@ -53,15 +53,15 @@ def value(data: bytes) -> int:
 class RobotBus(unittest.TestCase):
     """One profile's daemon and a client on its link."""
 
-    def serve(self, robot: str, baud: int, protocol, expected_servos: list[tuple[int, str]],
-              *extra: str) -> Client:
+    def serve(self, robot: str, baud: int, protocol,
+              expected_servos: list[tuple[int, str]]) -> Client:
         tmp = tempfile.TemporaryDirectory()
         self.addCleanup(tmp.cleanup)
         link = os.path.join(tmp.name, "tty")
         # Fast timing: the replays check what the servos answer, not when; under realtime timing
         # a machine busy with other tests may drop a late reply (docs/timing.md "Late replies").
         daemon = Daemon("--robot", robot, "--link", link, "--timing", "fast",
-                        "--control", os.path.join(tmp.name, "ctl"), *extra)
+                        "--control", os.path.join(tmp.name, "ctl"))
         self.addCleanup(daemon.stop)
         self.assertEqual(daemon.ready["link"], link)
         self.assertEqual([(s["id"], s["model"]) for s in daemon.ready["servos"]], expected_servos)
