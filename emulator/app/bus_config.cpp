@@ -52,12 +52,15 @@ class ConfigParser {
       // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
       fail("", std::string("not valid JSON: ") + e.what());
     }
-    object(doc, "", {"ports", "description"});
+    object(doc, "", {"ports", "robot", "description"});
+    BusConfig config;
+    if (doc.contains("robot")) {
+      config.robot = parse_robot(doc["robot"], "/robot");
+    }
     const json& ports = member(doc, "", "ports");
     if (!ports.is_array() || ports.empty()) {
       fail("/ports", "must be a non-empty array of ports");
     }
-    BusConfig config;
     std::set<std::string> names;
     std::set<std::string> links;
     for (std::size_t i = 0; i < ports.size(); ++i) {
@@ -127,6 +130,53 @@ class ConfigParser {
            std::to_string(v) + " is outside " + std::to_string(min) + " ~ " + std::to_string(max));
     }
     return v;
+  }
+
+  // A list of non-empty strings at `at`, or one string (a list of one) when `one_allowed`.
+  std::vector<std::string> strings(const json& value, const std::string& at, bool one_allowed) {
+    if (one_allowed && value.is_string()) {
+      return {string(value, at)};
+    }
+    if (!value.is_array() || value.empty()) {
+      fail(at, one_allowed ? "must be a non-empty string or array of strings"
+                           : "must be a non-empty array of strings");
+    }
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      out.push_back(string(value[i], at + "/" + std::to_string(i)));
+    }
+    return out;
+  }
+
+  // The header of a robot profile (docs/robots.md "Header").
+  RobotHeader parse_robot(const json& value, const std::string& at) {
+    object(value, at, {"name", "title", "sources", "software", "notes", "description"});
+    RobotHeader robot;
+    robot.name = string(member(value, at, "name"), at + "/name");
+    // The name is typed on command lines and is the profile's file name: lowercase and plain.
+    const bool plain = std::all_of(robot.name.begin(), robot.name.end(), [](char c) {
+      return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
+    });
+    if (!plain || robot.name.size() > kMaxRobotName || robot.name.front() == '.') {
+      fail(at + "/name",
+           "must be 1 to 40 lowercase letters, digits, '_', '.' or '-', not starting with '.'");
+    }
+    robot.title = string(member(value, at, "title"), at + "/title");
+    robot.sources = strings(member(value, at, "sources"), at + "/sources", false);
+    for (std::size_t i = 0; i < robot.sources.size(); ++i) {
+      const std::string& url = robot.sources[i];
+      if (url.rfind("https://", 0) != 0 && url.rfind("http://", 0) != 0) {
+        fail(at + "/sources/" + std::to_string(i),
+             "must be a URL (https://...) of the public file the facts come from");
+      }
+    }
+    if (value.contains("software")) {
+      robot.software = string(value["software"], at + "/software");
+    }
+    if (value.contains("notes")) {
+      robot.notes = strings(value["notes"], at + "/notes", true);
+    }
+    return robot;
   }
 
   PortConfig parse_port(const json& value, const std::string& at) {

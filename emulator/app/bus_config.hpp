@@ -50,9 +50,25 @@ struct PortConfig {
   bool operator==(const PortConfig&) const = default;
 };
 
+/// The header of a robot profile (docs/robots.md): which robot this bus is, and where each of its
+/// facts was read. Only descriptive: the ports and servos say what is served.
+struct RobotHeader {
+  std::string name;                  ///< the name `--robot` takes, the profile's file name
+  std::string title;                 ///< one line for `dxlemu robots`
+  std::vector<std::string> sources;  ///< URLs of the public files the profile's facts come from
+  std::string software;              ///< what drives the robot; empty when not given
+  std::vector<std::string> notes;    ///< free text, one paragraph per entry
+  bool operator==(const RobotHeader&) const = default;
+};
+
+/// The longest robot name a profile may have.
+inline constexpr std::size_t kMaxRobotName = 40;
+
 /// Everything `dxlemu run` serves: one or more ports.
 struct BusConfig {
   std::vector<PortConfig> ports;
+  /// The robot header of a robot profile; absent in a plain config.
+  std::optional<RobotHeader> robot;
   bool operator==(const BusConfig&) const = default;
 };
 

@@ -59,13 +59,37 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
   return models;
 }
 
+// --robots DIR of run, check and robots.
+void add_robots_dir_option(CLI::App& command, CommandLine& line) {
+  command
+      .add_option("--robots", line.robot_dirs,
+                  "Also load every *.json robot profile of DIR (repeatable); a profile replaces "
+                  "the shipped one of the same name (docs/robots.md)")
+      ->check(CLI::ExistingDirectory);
+}
+
 CLI::App* add_check(CLI::App& app, CommandLine& line) {
-  auto* check = app.add_subcommand("check", "Validate a bus config file and print its ports");
-  check->add_option("FILE", line.check_file, "The config file (docs/config.md)")
-      ->required()
-      ->type_name("FILE");
+  auto* check = app.add_subcommand(
+      "check", "Validate a bus config file or a robot profile and print its ports");
+  auto* file = check->add_option("FILE", line.check_file, "The config file (docs/config.md)")
+                   ->type_name("FILE");
+  auto* robot =
+      check->add_option("--robot", line.check_robot, "The robot profile NAME (dxlemu robots)")
+          ->type_name("NAME");
+  file->excludes(robot);
   add_models_option(*check, line);
+  add_robots_dir_option(*check, line);
+  check->footer("Give FILE or --robot NAME.");
   return check;
+}
+
+CLI::App* add_robots(CLI::App& app, CommandLine& line) {
+  auto* robots = app.add_subcommand(
+      "robots", "List the robot profiles: name, ports, servos, title, public source");
+  add_models_option(*robots, line);
+  add_robots_dir_option(*robots, line);
+  robots->footer("Serve one with dxlemu run --robot NAME (docs/robots.md).");
+  return robots;
 }
 
 CLI::App* add_clone(CLI::App& app, CommandLine& line) {
@@ -100,8 +124,8 @@ CLI::App* add_clone(CLI::App& app, CommandLine& line) {
   return cmd;
 }
 
-// run's options that say which servos there are and how they speak.
-void add_bus_options(CLI::App& run, CommandLine& line) {
+// run's options that say which servos there are and how they speak; returns --link.
+const CLI::Option* add_bus_options(CLI::App& run, CommandLine& line) {
   line.link = kDefaultLink;
   auto* config_option =
       run.add_option("--config", line.config_file,
@@ -118,9 +142,17 @@ void add_bus_options(CLI::App& run, CommandLine& line) {
       run.add_option("--link", line.link, "Stable symlink to port dxl0's PTY, removed on exit")
           ->type_name("PATH")
           ->capture_default_str();
+  auto* robot_option =
+      run.add_option("--robot", line.robot,
+                     "Serve the bus of this robot profile (dxlemu robots lists them; "
+                     "docs/robots.md); --link then names its port's link when it has one port")
+          ->type_name("NAME");
   servo_option->excludes(config_option);
   link_option->excludes(config_option);
+  robot_option->excludes(config_option);
+  robot_option->excludes(servo_option);
   add_models_option(run, line);
+  add_robots_dir_option(run, line);
   run.add_option("--baud", line.baud,
                  "Set every servo's Baud Rate to BPS (an error if a model cannot do it); "
                  "default: each model's factory rate or the config's")
@@ -128,6 +160,7 @@ void add_bus_options(CLI::App& run, CommandLine& line) {
   run.add_option("--protocol", line.protocol,
                  "Set Protocol Type to 1 or 2 on the models that have it; default: factory")
       ->check(CLI::IsMember({1, 2}));
+  return link_option;
 }
 
 // run's options that say how the daemon runs: time, files, the control socket, faults.
@@ -289,12 +322,15 @@ std::vector<std::string> exec_command(const CLI::App& exec, std::vector<std::str
 Subcommands define_command_line(CLI::App& app, CommandLine& line) {
   app.set_version_flag("--version", std::string("dxlemu ") + kVersion);
   app.require_subcommand(0, 1);
-  app.footer("Documentation: README.md and docs/ (config format: docs/config.md)");
+  app.footer(
+      "Documentation: README.md and docs/ (config format: docs/config.md, robot profiles: "
+      "docs/robots.md)");
   Subcommands subcommands;
   subcommands.models = add_models(app, line);
   subcommands.check = add_check(app, line);
+  subcommands.robots = add_robots(app, line);
   subcommands.run = app.add_subcommand("run", "Serve buses of virtual servos on pseudo-terminals");
-  add_bus_options(*subcommands.run, line);
+  subcommands.run_link = add_bus_options(*subcommands.run, line);
   add_daemon_options(*subcommands.run, line);
   subcommands.ctl = add_ctl(app, line);
   subcommands.exec = add_exec(app, line);

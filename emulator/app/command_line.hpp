@@ -44,12 +44,17 @@ struct CloneArguments {
 struct CommandLine {
   /// --models of every subcommand.
   std::vector<std::string> model_dirs;
-  /// check FILE.
+  /// --robots of run, check and robots: more robot profile directories (docs/robots.md).
+  std::vector<std::string> robot_dirs;
+  /// check FILE; empty with check --robot.
   std::string check_file;
+  /// check --robot NAME; empty with check FILE.
+  std::string check_robot;
   // run: the bus.
   std::vector<std::string> servo_options;  ///< --servo, before parse_servo_option
   std::string link;                        ///< --link
   std::string config_file;                 ///< --config; empty: --servo and --link
+  std::string robot;                       ///< --robot; empty: none (docs/robots.md)
   std::optional<std::uint32_t> baud;       ///< --baud
   std::optional<int> protocol;             ///< --protocol
   // run: the daemon.
@@ -73,6 +78,9 @@ struct Subcommands {
   CLI::App* ctl = nullptr;
   CLI::App* exec = nullptr;
   CLI::App* clone = nullptr;
+  CLI::App* robots = nullptr;
+  /// run's --link, to ask whether it was given (it has a default).
+  const CLI::Option* run_link = nullptr;
 };
 
 /// The servos `dxlemu run` serves without --servo or --config (README): three XM430-W350 at

@@ -1,11 +1,13 @@
 // dxlemu: a DYNAMIXEL servo-bus emulator. `dxlemu run` serves buses of virtual servos on
-// pseudo-terminals; `dxlemu models` lists the model library; `dxlemu check` validates a config;
+// pseudo-terminals; `dxlemu models` lists the model library; `dxlemu robots` the robot profiles;
+// `dxlemu check` validates a config or a profile;
 // `dxlemu ctl` sends one request to a running emulator's control API; `dxlemu exec` runs a client
 // with the preload library that makes the emulator's PTYs behave like a USB adapter.
 // `dxlemu clone` scans a real bus and writes the config that serves it.
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdlib>
 #include <functional>
 #include <iomanip>
@@ -20,6 +22,7 @@
 #include "app/exec_setup.hpp"
 #include "app/log.hpp"
 #include "app/model_library.hpp"
+#include "app/robot_library.hpp"
 #include "io/child_process.hpp"
 #include "io/control_client.hpp"
 #include "model/model_error.hpp"
@@ -72,6 +75,13 @@ dxlemu::app::ModelLibrary load_library(const std::vector<std::string>& dirs) {
   return dxlemu::app::ModelLibrary::load(
       dxlemu::app::shipped_models_dir(),
       std::vector<std::filesystem::path>(dirs.begin(), dirs.end()));
+}
+
+dxlemu::app::RobotLibrary load_robots(const std::vector<std::string>& dirs,
+                                      const dxlemu::app::ModelLibrary& models) {
+  return dxlemu::app::RobotLibrary::load(
+      dxlemu::app::shipped_robots_dir(),
+      std::vector<std::filesystem::path>(dirs.begin(), dirs.end()), models);
 }
 
 // Runs a subcommand and turns its failures into the documented exit statuses: 2 for refused
@@ -223,8 +233,9 @@ dxlemu::app::PortConfig port_of_options(const dxlemu::app::CommandLine& line) {
   return port;
 }
 
-// dxlemu run: serves until SIGINT, SIGTERM or the control API's shutdown.
-void serve(const dxlemu::app::CommandLine& line) {
+// dxlemu run: serves until SIGINT, SIGTERM or the control API's shutdown. `link_given`: whether
+// --link was on the command line (it has a default).
+void serve(const dxlemu::app::CommandLine& line, bool link_given) {
   dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(line.log_level));
   dxlemu::app::RunOptions options = line.options;
   options.timing = dxlemu::app::timing_mode(line.timing);
@@ -237,6 +248,11 @@ void serve(const dxlemu::app::CommandLine& line) {
   dxlemu::app::BusConfig config;
   if (!line.config_file.empty()) {
     config = dxlemu::app::read_config(line.config_file, library);
+  } else if (!line.robot.empty()) {
+    const auto robots = load_robots(line.robot_dirs, library);
+    config = dxlemu::app::robot_bus(
+        robots, line.robot,
+        link_given ? std::optional<std::filesystem::path>(line.link) : std::nullopt);
   } else {
     config.ports.push_back(port_of_options(line));
   }
@@ -245,11 +261,21 @@ void serve(const dxlemu::app::CommandLine& line) {
   emulator.run(std::cout);
 }
 
-// dxlemu check FILE: validates a config and prints its ports.
-void check_config(const std::string& file, const std::vector<std::string>& model_dirs) {
-  const auto library = load_library(model_dirs);
-  const auto config = dxlemu::app::read_config(file, library);
-  std::cout << file << ": ok\n";
+// dxlemu check FILE or check --robot NAME: validates a config or a profile and prints its ports.
+void check_config(const dxlemu::app::CommandLine& line) {
+  const auto library = load_library(line.model_dirs);
+  dxlemu::app::BusConfig config;
+  if (!line.check_robot.empty()) {
+    const auto robots = load_robots(line.robot_dirs, library);
+    config = dxlemu::app::robot_bus(robots, line.check_robot, std::nullopt);
+    std::cout << line.check_robot << " (" << robots.find(line.check_robot)->file.string()
+              << "): ok\n";
+  } else if (!line.check_file.empty()) {
+    config = dxlemu::app::read_config(line.check_file, library);
+    std::cout << line.check_file << ": ok\n";
+  } else {
+    throw std::invalid_argument("check: give a config FILE or --robot NAME");
+  }
   for (const auto& port : config.ports) {
     std::cout << "  " << port.name << ": " << port.servos.size()
               << (port.servos.size() == 1 ? " servo" : " servos");
@@ -257,6 +283,43 @@ void check_config(const std::string& file, const std::vector<std::string>& model
       std::cout << " at " << port.link->string();
     }
     std::cout << "\n";
+  }
+}
+
+// The servos of every port of `config`.
+std::size_t servo_count(const dxlemu::app::BusConfig& config) {
+  std::size_t count = 0;
+  for (const auto& port : config.ports) {
+    count += port.servos.size();
+  }
+  return count;
+}
+
+// dxlemu robots: one line per robot profile, by name.
+void list_robots(const dxlemu::app::CommandLine& line) {
+  const auto library = load_library(line.model_dirs);
+  const auto robots = load_robots(line.robot_dirs, library);
+  if (robots.profiles().empty()) {
+    std::cerr << "dxlemu: no robot profile in " << dxlemu::app::shipped_robots_dir().string()
+              << " or --robots\n";
+    return;
+  }
+  std::size_t name_width = std::string("NAME").size();
+  std::size_t title_width = std::string("TITLE").size();
+  for (const auto& [name, profile] : robots.profiles()) {
+    name_width = std::max(name_width, name.size());
+    title_width = std::max(title_width, profile.header().title.size());
+  }
+  constexpr int kCountWidth = 7;
+  std::cout << std::left << std::setw(static_cast<int>(name_width + 2)) << "NAME"
+            << std::setw(kCountWidth) << "PORTS" << std::setw(kCountWidth) << "SERVOS"
+            << std::setw(static_cast<int>(title_width + 2)) << "TITLE"
+            << "SOURCE\n";
+  for (const auto& [name, profile] : robots.profiles()) {
+    std::cout << std::setw(static_cast<int>(name_width + 2)) << name << std::setw(kCountWidth)
+              << profile.config.ports.size() << std::setw(kCountWidth)
+              << servo_count(profile.config) << std::setw(static_cast<int>(title_width + 2))
+              << profile.header().title << profile.header().sources.front() << "\n";
   }
 }
 
@@ -317,7 +380,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : kExitBadInput;
   }
   if (given.run->parsed()) {
-    return run_command([&] { serve(line); });
+    return run_command([&] { serve(line, given.run_link->count() > 0); });
   }
   if (given.ctl->parsed()) {
     return run_ctl(line.ctl);
@@ -337,7 +400,10 @@ int main(int argc, char** argv) {
     });
   }
   if (given.check->parsed()) {
-    return run_command([&] { check_config(line.check_file, line.model_dirs); });
+    return run_command([&] { check_config(line); });
+  }
+  if (given.robots->parsed()) {
+    return run_command([&] { list_robots(line); });
   }
   if (given.models->parsed()) {
     return run_command([&] { list_models(line.model_dirs, line.models); });

@@ -69,6 +69,16 @@ exec_preload "$prefix/bin/dxlemu"
 models_listing "$prefix/bin/dxlemu"
 lists "$out" xm430-w350 && lists "$out" ax-12a || fail "installed dxlemu models lists:"$'\n'"$out"
 
+# The robot profiles are installed beside the models and the installed copy is the one used: a
+# profile removed from it is no longer listed, though the source tree's robots/ still has it.
+robots=$prefix/share/dxlemu/robots
+[ -f "$robots/so101-follower.json" ] || fail "no share/dxlemu/robots/so101-follower.json"
+[ -f "$robots/poppy-ergo-jr.json" ] || fail "no share/dxlemu/robots/poppy-ergo-jr.json"
+rm "$robots/poppy-ergo-jr.json"
+out=$(env -u DXLEMU_ROBOTS_DIR "$prefix/bin/dxlemu" robots 2>&1) || fail "installed dxlemu robots: $out"
+lists "$out" so101-follower && ! lists "$out" poppy-ergo-jr ||
+  fail "installed dxlemu robots did not use share/dxlemu/robots:"$'\n'"$out"
+
 # The installed copy wins over the source tree: a catalog of one model lists one model.
 cat >"$models/catalog.json" <<'EOF'
 {
@@ -118,4 +128,4 @@ rm "$prefix/share/dxlemu/models/catalog.json"
 models_listing "$prefix/bin/dxlemu"
 lists "$out" ax-12a || fail "no fallback to $source_models:"$'\n'"$out"
 
-echo "ok: installed dxlemu uses share/dxlemu/models beside its bin/, after \$DXLEMU_MODELS_DIR, before the source tree; its exec preloads $preload"
+echo "ok: installed dxlemu uses share/dxlemu/models and robots beside its bin/, after \$DXLEMU_MODELS_DIR, before the source tree; its exec preloads $preload"

@@ -1,0 +1,165 @@
+// Robot profiles (docs/robots.md): every shipped profile loads and cites its source, a bad header
+// or a misnamed profile is refused with the file, the JSON pointer and the reason, and --robot's
+// bus is the profile's with --link on its one port.
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "app/robot_library.hpp"
+
+using namespace dxlemu;
+using app::ConfigError;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const app::ModelLibrary& models() {
+  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
+  return lib;
+}
+
+const app::RobotLibrary& shipped() {
+  static const app::RobotLibrary lib = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {}, models());
+  return lib;
+}
+
+// The message parse_config refuses `text` with, as file robot.json.
+std::string refusal(const std::string& text) {
+  try {
+    app::parse_config(text, "robot.json", models());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// A profile of one XM430-W350 at ID 1 whose robot header is `header`.
+std::string with_header(const std::string& header) {
+  return R"({"robot":)" + header +
+         R"(, "ports":[{"name":"arm","servos":[{"model":"xm430-w350","id":1}]}]})";
+}
+
+}  // namespace
+
+TEST_CASE("Every shipped robot profile loads under its file name and cites a public source",
+          "[app][robots]") {
+  std::size_t files = 0;
+  for (const auto& f : fs::directory_iterator(DXLEMU_ROBOTS_DIR)) {
+    files += f.path().extension() == ".json" ? 1 : 0;
+  }
+  REQUIRE(files > 0);
+  CHECK(shipped().profiles().size() == files);
+  for (const auto& [name, profile] : shipped().profiles()) {
+    INFO(profile.file.string());
+    CHECK(profile.file.stem().string() == name);
+    CHECK(profile.header().name == name);
+    CHECK_FALSE(profile.header().title.empty());
+    REQUIRE_FALSE(profile.header().sources.empty());
+    CHECK(profile.header().sources.front().rfind("https://", 0) == 0);
+    CHECK_FALSE(profile.header().notes.empty());
+    CHECK_FALSE(profile.config.ports.empty());
+  }
+}
+
+TEST_CASE("The SO-101 follower profile is six STS3215 at 1 Mbit/s on one port", "[app][robots]") {
+  const app::RobotProfile* so101 = shipped().find("so101-follower");
+  REQUIRE(so101 != nullptr);
+  REQUIRE(so101->config.ports.size() == 1);
+  const auto& servos = so101->config.ports.front().servos;
+  REQUIRE(servos.size() == 6);
+  for (std::size_t i = 0; i < servos.size(); ++i) {
+    CHECK(servos[i].model == "sts3215");
+    CHECK(servos[i].id == i + 1);
+    // STS3215 Baud Rate value 0 is 1,000,000 bps in its model file.
+    CHECK(servos[i].items == std::vector<std::pair<std::string, std::int64_t>>{{"baud_rate", 0}});
+  }
+}
+
+TEST_CASE("A robot header is parsed into the config and a plain config has none", "[app][robots]") {
+  const auto config = app::parse_config(
+      with_header(R"({"name":"arm-1","title":"An arm","sources":["https://example.org/a.yaml"],
+                      "software":"a driver","notes":"one paragraph"})"),
+      "arm-1.json", models());
+  REQUIRE(config.robot);
+  CHECK(*config.robot ==
+        app::RobotHeader{
+            "arm-1", "An arm", {"https://example.org/a.yaml"}, "a driver", {"one paragraph"}});
+  CHECK_FALSE(
+      app::parse_config(R"({"ports":[{"name":"a","servos":[]}]})", "bus.json", models()).robot);
+}
+
+TEST_CASE("A bad robot header is refused naming the file, the JSON pointer and the reason",
+          "[app][robots]") {
+  const std::string source = R"("sources":["https://example.org/a.yaml"])";
+  CHECK(refusal(with_header("[]")) == "robot.json: /robot: must be an object");
+  CHECK(refusal(with_header(R"({"title":"t",)" + source + "}")) ==
+        "robot.json: /robot/name: is required");
+  CHECK(refusal(with_header(R"({"name":"Arm","title":"t",)" + source + "}")) ==
+        "robot.json: /robot/name: must be 1 to 40 lowercase letters, digits, '_', '.' or '-', "
+        "not starting with '.'");
+  CHECK(refusal(with_header(R"({"name":"a","title":"t","sources":[]})")) ==
+        "robot.json: /robot/sources: must be a non-empty array of strings");
+  CHECK(refusal(with_header(R"({"name":"a","title":"t","sources":["wx250.yaml"]})")) ==
+        "robot.json: /robot/sources/0: must be a URL (https://...) of the public file the facts "
+        "come from");
+  CHECK(refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"notes":[1]})")) ==
+        "robot.json: /robot/notes/0: must be a non-empty string");
+  CHECK(refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"baud":1})")) ==
+        "robot.json: /robot/baud: unknown field (allowed: name, title, sources, software, notes, "
+        "description)");
+}
+
+TEST_CASE("A profile whose header names another file, or without a header, is refused",
+          "[app][robots]") {
+  const fs::path bad = fs::path(DXLEMU_TEST_DATA_DIR) / "bad_robots";
+  try {
+    app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {bad}, models());
+    FAIL("accepted");
+  } catch (const ConfigError& e) {
+    CHECK(std::string(e.what()) ==
+          (bad / "wrong-name.json").string() +
+              ": /robot/name: \"another-name\" must be the file's name, \"wrong-name\"");
+  }
+  // A plain config among the profiles: the shipped docs/examples/robot.json has no header.
+  const fs::path examples =
+      fs::path(DXLEMU_TEST_DATA_DIR).parent_path().parent_path() / "docs" / "examples";
+  try {
+    app::RobotLibrary::load("/nonexistent", {examples}, models());
+    FAIL("accepted");
+  } catch (const ConfigError& e) {
+    CHECK(std::string(e.what()).find("robot.json: /robot: is required in a robot profile") !=
+          std::string::npos);
+  }
+}
+
+TEST_CASE("--robot serves the profile's bus, --link replaces its one port's link",
+          "[app][robots]") {
+  const auto bus = app::robot_bus(shipped(), "openmanipulator-x", std::nullopt);
+  CHECK(bus == shipped().find("openmanipulator-x")->config);
+  const auto linked = app::robot_bus(shipped(), "openmanipulator-x", fs::path("/tmp/omx"));
+  CHECK(linked.ports.front().link == fs::path("/tmp/omx"));
+  CHECK(linked.ports.front().servos == bus.ports.front().servos);
+  try {
+    app::robot_bus(shipped(), "no-such-robot", std::nullopt);
+    FAIL("accepted");
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    CHECK(message.rfind("--robot: unknown robot \"no-such-robot\" (known: ", 0) == 0);
+    CHECK(message.find("so101-follower") != std::string::npos);
+  }
+}
+
+TEST_CASE("--link is refused for a profile of several ports, naming them", "[app][robots]") {
+  const fs::path dir = fs::path(DXLEMU_TEST_DATA_DIR) / "robots_two_ports";
+  const auto robots = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {dir}, models());
+  CHECK(robots.profiles().size() == shipped().profiles().size() + 1);
+  CHECK(app::robot_bus(robots, "two-ports", std::nullopt).ports.size() == 2);
+  try {
+    app::robot_bus(robots, "two-ports", fs::path("/tmp/x"));
+    FAIL("accepted");
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()) == "--link: robot two-ports has 2 ports (arm, gripper); copy " +
+                                       (dir / "two-ports.json").string() +
+                                       " and set each port's link there");
+  }
+}
