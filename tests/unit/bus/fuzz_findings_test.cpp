@@ -32,3 +32,23 @@ TEST_CASE("A Fast read whose reply would not fit a 2.0 LENGTH goes unanswered", 
   REQUIRE(rig.link.deliveries().size() == 1);
   CHECK(rig.link.deliveries()[0].bytes.size() == 7 + 0xFFFF);
 }
+
+TEST_CASE("An empty write from the client leaves the replies still due in place", "[bus][fuzz]") {
+  BusRig rig;
+  std::uint32_t bps = BusRig::kBaud;
+  SECTION("FEETECH") {
+    rig.add("feetech/sts3215", 1);
+    bps = 1000000;  // the STS3215's factory rate
+    rig.send({Protocol::Feetech, 1, wire::Ping{}}, bps);
+  }
+  SECTION("Protocol 2.0") {
+    rig.add("xm430-w350", 1);
+    rig.send({Protocol::V2, 1, wire::Ping{}}, bps);
+  }
+  // fuzz_bus_feetech fed the end of its input as one more receive() of no bytes while the status
+  // was due: it was counted as a collision and the status dropped.
+  rig.bus.receive({}, rig.scheduler.now(), bps);
+  rig.run();
+  CHECK(rig.bus.stats().collisions == 0);
+  CHECK(rig.link.deliveries().size() == 1);
+}
