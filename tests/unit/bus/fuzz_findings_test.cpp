@@ -52,3 +52,27 @@ TEST_CASE("An empty write from the client leaves the replies still due in place"
   CHECK(rig.bus.stats().collisions == 0);
   CHECK(rig.link.deliveries().size() == 1);
 }
+
+TEST_CASE("A FEETECH position calibration the Position offset cannot reach changes nothing",
+          "[bus][fuzz][feetech]") {
+  constexpr std::uint32_t kMbps = 1000000;  // the FEETECH models' factory rate
+  BusRig rig;
+  const std::string model =
+      GENERATE(std::string("feetech/hls3625m"), std::string("feetech/sts3215"));
+  model::Servo& servo = rig.add(model, 1);
+  // The shaft is at 2048. Reading 0xFF07 there needs an offset of 2048 - 65287, far outside
+  // -4095 ~ 4095 (HLS) or -2047 ~ 2047 (STS): fuzz_bus_feetech found Position offset clamped to
+  // -32767 instead, a value no write could set.
+  rig.send({Protocol::Feetech, 1, wire::PositionCalibration{0xFF07}}, kMbps);
+  rig.run();
+  CHECK(servo.table().get("position_offset") == 0);
+  CHECK(servo.table().get("present_position") == 2048);
+  // Refused with the range bit, which FEETECH models leave unset: error byte 0, no data.
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(rig.link.deliveries()[0].bytes ==
+        std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
+  // A reachable value still calibrates.
+  rig.send({Protocol::Feetech, 1, wire::PositionCalibration{1024}}, kMbps);
+  rig.run();
+  CHECK(servo.table().get("present_position") == 1024);
+}
