@@ -75,6 +75,10 @@ BusStats Bus::stats() const {
 
 void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t client_bps) {
   client_bps_ = client_bps;
+  // An empty write puts nothing on the line: it garbles no reply still due.
+  if (bytes.empty()) {
+    return;
+  }
   stats_.bytes_in += bytes.size();
   drop_pending_replies();
   // Each protocol's framer hears the line when a servo speaks that protocol (mixed DYNAMIXEL

@@ -55,7 +55,7 @@ class Bus {
   model::Servo& add_servo(std::unique_ptr<model::Servo> servo);
 
   /// The client wrote `bytes`, which arrived at `at` (the scheduler's time) while the client's
-  /// serial port was set to `client_bps`.
+  /// serial port was set to `client_bps`. No bytes: nothing reaches the line (no collision).
   void receive(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t client_bps);
 
   /// The servos, in the order they were added.

@@ -196,15 +196,23 @@ void MotionModel::on_operating_mode() {
   publish();
 }
 
-void MotionModel::calibrate_position(std::int64_t present) {
+bool MotionModel::calibrate_position(std::int64_t present) {
   const auto& offset = motion_.items.homing_offset;
   if (!offset) {
-    return;
+    return true;
   }
-  // The offset that makes Present Position read `present` where the shaft is now.
+  // The offset that makes Present Position read `present` where the shaft is now. One the item
+  // cannot hold (a target far outside a turn) is refused as a written value out of range would
+  // be, rather than clamped to an offset that reads something else (docs/feetech.md).
   const std::int64_t shaft = round_to(motion_.direction() * motion_.motor.state().position);
-  motion_.put(offset, motion_.traits.homing_offset_subtracts ? shaft - present : present - shaft);
+  const std::int64_t value =
+      motion_.traits.homing_offset_subtracts ? shaft - present : present - shaft;
+  if (!motion_.table.spec().items[*offset].in_range(value)) {
+    return false;
+  }
+  motion_.put(offset, value);
   on_reading_setting();
+  return true;
 }
 
 void MotionModel::on_reading_setting() {

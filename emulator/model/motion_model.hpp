@@ -74,8 +74,9 @@ class MotionModel {
   void clear_turns();
 
   /// Sets the homing offset item so that Present Position reads `present` where the shaft is
-  /// now (FEETECH Position calibration and Torque switch 128); nothing without that item.
-  void calibrate_position(std::int64_t present);
+  /// now (FEETECH Position calibration and Torque switch 128); nothing without that item. Returns
+  /// false, changing nothing, when that offset lies outside the item's range.
+  bool calibrate_position(std::int64_t present);
 
   /// The motor and shaft now.
   const MotorState& motor() const { return motion_.motor.state(); }

@@ -64,9 +64,12 @@ ServoResponse Servo::execute_feetech(const wire::PositionCalibration& calibratio
     r.error = instruction_error();
     return r;
   }
-  // No value: "calibrated to the middle position".
-  motion_.calibrate_position(calibration.position.value_or(
-      static_cast<std::uint16_t>(spec().traits().calibrated_position)));
+  // No value: "calibrated to the middle position". A value the offset cannot reach changes
+  // nothing and is refused with the range bit (none unless the model file sets one).
+  if (!motion_.calibrate_position(calibration.position.value_or(
+          static_cast<std::uint16_t>(spec().traits().calibrated_position)))) {
+    r.error = error_byte(TableError::DataRange);
+  }
   return r;
 }
 

@@ -26,7 +26,6 @@ constexpr std::size_t kFastBlockOverhead = 4;  // error, ID, CRC
 constexpr std::size_t kPacketHeadBytes = 7;    // what LENGTH does not count: header, ID, LENGTH
 constexpr std::uint8_t kMaxV2ErrorNumber = 0x07;
 constexpr std::uint8_t kV1UnusedErrorBit = 0x80;
-constexpr std::uint8_t kMaxServoId = 252;
 // Operating Mode values whose Goal Position spans many turns (X, MX(2.0), P).
 constexpr std::int64_t kExtendedPositionMode = 4;
 constexpr std::int64_t kCurrentBasedPositionMode = 5;
@@ -126,6 +125,15 @@ void ReplyChecker::heard(const wire::FramerEvent& event) {
   }
   // Replies to this packet carry the IDs and protocols the servos have while it is handled.
   remember_servos();
+  // A frame or a bad-check packet cancels whatever was still due (Bus::handle): on a FEETECH bus,
+  // what may come now answers it.
+  const auto* failure = std::get_if<wire::FramingError>(&event);
+  const wire::Protocol protocol =
+      failure != nullptr ? failure->protocol : std::get<wire::Frame>(event).protocol;
+  if (protocol == wire::Protocol::Feetech &&
+      (failure == nullptr || failure->kind == wire::FramingErrorKind::BadCheck)) {
+    feetech_.heard(event, bus_);
+  }
   if (const auto* frame = std::get_if<wire::Frame>(&event)) {
     if (auto layout = fast_read_layout<Layout>(*frame); layout && !layout->empty()) {
       fast_requests_.push_back(std::move(*layout));
@@ -147,6 +155,11 @@ void ReplyChecker::sent(std::span<const std::uint8_t> bytes, sim::SimTime at,
   ++checked_;
 
   FUZZ_REQUIRE(protocols_.contains(protocol));
+  const bool conflict_pending = bus_.stats().id_conflicts - conflicts_base_ > excused_;
+  if (protocol == wire::Protocol::Feetech) {
+    excused_ += feetech_.check(bytes, at, conflict_pending) ? 1 : 0;
+    return;
+  }
   if (protocol == wire::Protocol::V2 && is_fast_reply(bytes)) {
     return;
   }
@@ -155,7 +168,7 @@ void ReplyChecker::sent(std::span<const std::uint8_t> bytes, sim::SimTime at,
   }
   // Only servos sharing an ID (or 1.0 servos answering one broadcast Ping) send at once, and the
   // bus counts each such slot: without one pending, the delivery is simply malformed.
-  FUZZ_REQUIRE_MSG(bus_.stats().id_conflicts - conflicts_base_ > excused_,
+  FUZZ_REQUIRE_MSG(conflict_pending,
                    "malformed delivery of %zu bytes (protocol %d) with no ID conflict pending",
                    bytes.size(), protocol == wire::Protocol::V1 ? 1 : 2);
   ++excused_;
@@ -180,8 +193,8 @@ bool ReplyChecker::is_status(std::span<const std::uint8_t> bytes, wire::Protocol
   }
   const auto decoded = wire::decode_status(frame);
   const auto* status = std::get_if<wire::StatusPacket>(&decoded);
-  return status != nullptr && status->id <= kMaxServoId && ids_.contains(status->id) &&
-         valid_error_byte(status->error, protocol);
+  return status != nullptr && status->id <= wire::max_unicast_id(protocol) &&
+         ids_.contains(status->id) && valid_error_byte(status->error, protocol);
 }
 
 // The reply to one of the Fast reads heard, whole or cut short after the last device that

@@ -9,6 +9,7 @@
 
 #include "bus/bus.hpp"
 #include "bus/loopback_link.hpp"
+#include "feetech_replies.hpp"
 #include "model/servo.hpp"
 #include "sim/sim_time.hpp"
 #include "wire/frame.hpp"
@@ -26,7 +27,8 @@ bool item_value_allowed(const model::Servo& servo, std::size_t item, std::int64_
 /// spoke, from an ID some servo had, with a valid error byte; or the Fast Sync/Bulk Read reply to
 /// a request heard, whole or cut short after a block, every block in request order with its
 /// running CRC; or, only while the bus counts an ID conflict not yet accounted for, colliding
-/// replies (the AND of several packets, which keeps the header).
+/// replies (the AND of several packets, which keeps the header). On a FEETECH bus each delivery
+/// must moreover be an answer FeetechReplies allows to the packet heard last.
 class ReplyChecker {
  public:
   /// Installs itself as `bus`'s observer; both must outlive it. `before_packet`, when given, runs
@@ -63,6 +65,7 @@ class ReplyChecker {
   std::set<std::uint8_t> ids_;
   std::set<wire::Protocol> protocols_;
   std::vector<Layout> fast_requests_;
+  FeetechReplies feetech_;
 };
 
 }  // namespace dxlemu::fuzz

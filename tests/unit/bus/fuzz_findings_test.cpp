@@ -32,3 +32,47 @@ TEST_CASE("A Fast read whose reply would not fit a 2.0 LENGTH goes unanswered", 
   REQUIRE(rig.link.deliveries().size() == 1);
   CHECK(rig.link.deliveries()[0].bytes.size() == 7 + 0xFFFF);
 }
+
+TEST_CASE("An empty write from the client leaves the replies still due in place", "[bus][fuzz]") {
+  BusRig rig;
+  std::uint32_t bps = BusRig::kBaud;
+  SECTION("FEETECH") {
+    rig.add("feetech/sts3215", 1);
+    bps = 1000000;  // the STS3215's factory rate
+    rig.send({Protocol::Feetech, 1, wire::Ping{}}, bps);
+  }
+  SECTION("Protocol 2.0") {
+    rig.add("xm430-w350", 1);
+    rig.send({Protocol::V2, 1, wire::Ping{}}, bps);
+  }
+  // fuzz_bus_feetech fed the end of its input as one more receive() of no bytes while the status
+  // was due: it was counted as a collision and the status dropped.
+  rig.bus.receive({}, rig.scheduler.now(), bps);
+  rig.run();
+  CHECK(rig.bus.stats().collisions == 0);
+  CHECK(rig.link.deliveries().size() == 1);
+}
+
+TEST_CASE("A FEETECH position calibration the Position offset cannot reach changes nothing",
+          "[bus][fuzz][feetech]") {
+  constexpr std::uint32_t kMbps = 1000000;  // the FEETECH models' factory rate
+  BusRig rig;
+  const std::string model =
+      GENERATE(std::string("feetech/hls3625m"), std::string("feetech/sts3215"));
+  model::Servo& servo = rig.add(model, 1);
+  // The shaft is at 2048. Reading 0xFF07 there needs an offset of 2048 - 65287, far outside
+  // -4095 ~ 4095 (HLS) or -2047 ~ 2047 (STS): fuzz_bus_feetech found Position offset clamped to
+  // -32767 instead, a value no write could set.
+  rig.send({Protocol::Feetech, 1, wire::PositionCalibration{0xFF07}}, kMbps);
+  rig.run();
+  CHECK(servo.table().get("position_offset") == 0);
+  CHECK(servo.table().get("present_position") == 2048);
+  // Refused with the range bit, which FEETECH models leave unset: error byte 0, no data.
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(rig.link.deliveries()[0].bytes ==
+        std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
+  // A reachable value still calibrates.
+  rig.send({Protocol::Feetech, 1, wire::PositionCalibration{1024}}, kMbps);
+  rig.run();
+  CHECK(servo.table().get("present_position") == 1024);
+}
