@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/model_library.hpp"
+#include "app/physics_config.hpp"
 #include "model/model_error.hpp"
 
 namespace dxlemu::app {
@@ -50,9 +51,11 @@ struct PortConfig {
   bool operator==(const PortConfig&) const = default;
 };
 
-/// Everything `dxlemu run` serves: one or more ports.
+/// Everything `dxlemu run` serves: one or more ports, and optionally a physics world their
+/// servos drive (docs/physics.md).
 struct BusConfig {
   std::vector<PortConfig> ports;
+  std::optional<PhysicsConfig> physics;
   bool operator==(const BusConfig&) const = default;
 };
 

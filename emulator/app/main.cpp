@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <functional>
 #include <iomanip>
@@ -18,6 +19,7 @@
 #include "app/exec_setup.hpp"
 #include "app/log.hpp"
 #include "app/model_library.hpp"
+#include "app/physics_config.hpp"
 #include "io/child_process.hpp"
 #include "io/control_client.hpp"
 #include "model/model_error.hpp"
@@ -247,6 +249,14 @@ void serve(const dxlemu::app::CommandLine& line) {
 void check_config(const std::string& file, const std::vector<std::string>& model_dirs) {
   const auto library = load_library(model_dirs);
   const auto config = dxlemu::app::read_config(file, library);
+  // The MJCF loads and names every joint (at the default motion tick: `run --tick-hz` may
+  // still refuse a timestep that does not divide its own).
+  if (config.physics) {
+    const auto world = dxlemu::app::load_physics(*config.physics, std::chrono::milliseconds(1));
+    for (std::size_t i = 0; i < config.physics->joints.size(); ++i) {
+      dxlemu::app::joint_mapping(*config.physics, i, world->world());
+    }
+  }
   std::cout << file << ": ok\n";
   for (const auto& port : config.ports) {
     std::cout << "  " << port.name << ": " << port.servos.size()
@@ -255,6 +265,11 @@ void check_config(const std::string& file, const std::vector<std::string>& model
       std::cout << " at " << port.link->string();
     }
     std::cout << "\n";
+  }
+  if (config.physics) {
+    std::cout << "  physics: " << config.physics->mjcf.string() << ", "
+              << config.physics->joints.size()
+              << (config.physics->joints.size() == 1 ? " joint" : " joints") << "\n";
   }
 }
 
