@@ -40,10 +40,10 @@ constexpr std::int64_t kHwOverload = 0x20;  // Hardware Error Status: Overload E
 
 /// The pendulum world and one XM430-W350 on its shoulder, stepped on a virtual clock.
 struct Pendulum {
-  Pendulum()
+  explicit Pendulum(const std::string& model = "xm430-w350")
       : clock(std::make_unique<physics::WorldClock>(physics::load_mjcf_world(kPendulum, 0.001),
                                                     milliseconds(1))),
-        servo(test::shipped_model("xm430-w350"), 1) {
+        servo(test::shipped_model(model), 1) {
     model::JointMapping mapping;
     mapping.joint = clock->world().find_joint("shoulder").value();
     mapping.zero_offset_rad = std::numbers::pi;
@@ -156,6 +156,26 @@ TEST_CASE("Pushing into a joint stop raises the current to its limit and trips O
   p.wait_ms(10);
   CHECK(p.get("present_current") == 0);
   CHECK(p.angle() == Approx(kLimitRad).margin(0.02));
+}
+
+TEST_CASE("Pushing into a joint stop raises Present Load to the motor's limit on an MX-28(2.0)",
+          "[physics][mujoco]") {
+  // MX-28(2.0) has no current sensor: its load reading is Present Load, 0.1 % of stall torque.
+  Pendulum p("mx-28-2");
+  REQUIRE(p.get("present_position") == kLevel);
+  p.set("torque_enable", 1);
+  p.wait_ms(1000);
+  // Held level: m*g*l over its 2.5 N·m stall torque, -196 in 0.1 % (the sign: against gravity).
+  const double holding = -kMassKg * kGravity * kArmM / 2.5 * 1000;
+  CHECK(std::abs(static_cast<double>(p.get("present_load")) - holding) <= 4);
+  p.set("goal_position", kLevel + 1024);
+  p.wait_ms(500);
+  CHECK(p.angle() == Approx(kLimitRad).margin(0.02));
+  // All the motor gives at standstill: stall torque at the supply, 12.7 V at power-on over the
+  // rated 12 V (docs/motion.md "Parameters"), so above the 1000 of the rated stall torque.
+  const double full = 1000 * p.servo.motion().conditions().supply_v / 12;
+  CHECK(std::abs(static_cast<double>(p.get("present_load")) - full) <= 2);
+  CHECK(p.get("present_load") > 1000);
 }
 
 TEST_CASE("The same physics run twice gives the same control table bytes", "[physics][mujoco]") {
