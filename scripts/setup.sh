@@ -22,6 +22,7 @@ packages=(
   python3-setuptools  # builds python/dxlemu for pip offline (--no-build-isolation)
   python3-wheel       # setuptools' bdist_wheel, which that build needs
   tshark              # CI checks the Wireshark dissector (scripts/dxlemu.lua) on a capture
+  libmujoco-dev       # physics (docs/physics.md): optional for users, built and tested by CI
 )
 
 missing=()

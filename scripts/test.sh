@@ -46,8 +46,11 @@ bash scripts/check_format.sh
 # shadow memory make it grow by design) and the .deb (it packs the binary, no dxlemu code runs).
 # DXLEMU_CHECK_EXIT: a daemon that did not exit with status 0 (a crash at shutdown, a stop that
 # timed out, a sanitizer report) fails the test that started it.
+# The Release build has MuJoCo (scripts/setup.sh installs it) and runs the physics tests; the
+# sanitizer build is built without it, which checks that dxlemu builds, runs and refuses physics
+# configs without MuJoCo (docs/physics.md), and keeps an uninstrumented MuJoCo out of it.
 step "build/: g++ Release"
-configure_and_build build -DCMAKE_BUILD_TYPE=Release -DDXLEMU_WERROR=ON
+configure_and_build build -DCMAKE_BUILD_TYPE=Release -DDXLEMU_WERROR=ON -DDXLEMU_MUJOCO=ON
 step "build/: tests"
 DXLEMU_CHECK_EXIT=1 run_ctest build -LE end_to_end
 DXLEMU_CHECK_EXIT=1 run_ctest build -L end_to_end -L plain_build
@@ -68,7 +71,7 @@ step "build/san: clang++ ASan + UBSan + fuzzer instrumentation"
 require_tool clang++ clang "the sanitizer and fuzz build"
 configure_and_build build/san -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
   "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" -DDXLEMU_UNIT_TEST_OPTIONS=-O0 \
-  -DDXLEMU_SANITIZE=ON -DDXLEMU_FUZZ=ON -DDXLEMU_WERROR=ON
+  -DDXLEMU_SANITIZE=ON -DDXLEMU_FUZZ=ON -DDXLEMU_WERROR=ON -DDXLEMU_MUJOCO=OFF
 step "build/san: tests and fuzz smoke runs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   DXLEMU_CHECK_EXIT=1 DXLEMU_TIMEOUT_SCALE=2 \

@@ -52,7 +52,7 @@ class ConfigParser {
       // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
       fail("", std::string("not valid JSON: ") + e.what());
     }
-    object(doc, "", {"ports", "robot", "description"});
+    object(doc, "", {"ports", "robot", "physics", "description"});
     BusConfig config;
     if (doc.contains("robot")) {
       config.robot = parse_robot(doc["robot"], "/robot");
@@ -73,6 +73,9 @@ class ConfigParser {
         fail(at + "/link", "link " + port.link->string() + " is used twice");
       }
       config.ports.push_back(std::move(port));
+    }
+    if (doc.contains("physics")) {
+      config.physics = parse_physics(doc["physics"], origin_, config.ports);
     }
     return config;
   }
@@ -336,7 +339,12 @@ BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& lib
   }
   std::stringstream text;
   text << in.rdbuf();
-  return parse_config(text.str(), path.string(), library);
+  BusConfig config = parse_config(text.str(), path.string(), library);
+  // The MJCF file is named relative to the config file.
+  if (config.physics && config.physics->mjcf.is_relative()) {
+    config.physics->mjcf = path.parent_path() / config.physics->mjcf;
+  }
+  return config;
 }
 
 std::int64_t baud_rate_item_value(const model::ModelSpec& spec, std::uint32_t bps) {

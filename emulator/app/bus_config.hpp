@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/model_library.hpp"
+#include "app/physics_config.hpp"
 #include "model/model_error.hpp"
 
 namespace dxlemu::app {
@@ -64,9 +65,11 @@ struct RobotHeader {
 /// The longest robot name a profile may have.
 inline constexpr std::size_t kMaxRobotName = 40;
 
-/// Everything `dxlemu run` serves: one or more ports.
+/// Everything `dxlemu run` serves: one or more ports, and optionally a physics world their
+/// servos drive (docs/physics.md).
 struct BusConfig {
   std::vector<PortConfig> ports;
+  std::optional<PhysicsConfig> physics;
   /// The robot header of a robot profile; absent in a plain config.
   std::optional<RobotHeader> robot;
   bool operator==(const BusConfig&) const = default;

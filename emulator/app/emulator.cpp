@@ -21,12 +21,15 @@
 #include "io/pty_handover.hpp"
 #include "io/pty_link.hpp"
 #include "io/realtime_scheduling.hpp"
+#include "physics/mjcf_world.hpp"
 
 namespace dxlemu::app {
 namespace {
 
 // After a control API shutdown, how long replies still queued get to reach their clients.
 constexpr std::chrono::milliseconds kShutdownFlush{100};
+// How far the physics world may lag simulated time between reads (Emulator::world_).
+constexpr std::chrono::milliseconds kPhysicsCatchUp{10};
 
 // The USB serial adapter in front of `port`: its own settings, else the command line's. None
 // under fast timing, whose replies come at once (docs/timing.md "USB adapter latency").
@@ -68,6 +71,18 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       throw std::invalid_argument("port " + port_config.name + ": " +
                                   other_maker_reason(port_config, *other, library));
     }
+  }
+  // The world and its joints before any PTY: an MJCF that does not load, or names no such joint,
+  // refuses the config.
+  std::vector<model::JointMapping> joints;
+  if (config.physics) {
+    world_ = load_physics(*config.physics, options_.tick);
+    for (std::size_t i = 0; i < config.physics->joints.size(); ++i) {
+      joints.push_back(joint_mapping(*config.physics, i, world_->world()));
+    }
+    log(LogLevel::Info, "physics: " + physics::physics_engine() + " stepping " +
+                            config.physics->mjcf.string() + ", " +
+                            std::to_string(world_->substeps()) + " step(s) per motion tick");
   }
   const BusState state = options_.state ? read_state(*options_.state) : BusState{};
   if (options_.trace) {
@@ -170,6 +185,21 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     ports_.push_back(std::move(port));
   }
   restore(state);
+  if (config.physics) {
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      const JointConfig& j = config.physics->joints[i];
+      model::Servo* servo = nullptr;
+      for (const auto& port : ports_) {
+        for (const auto& s : port->bus->servos()) {
+          if (servo == nullptr && port->config.name == j.port && s->id() == j.id) {
+            servo = s.get();  // the first of that ID: a port may hold two (docs/bus.md)
+          }
+        }
+      }
+      servo->motion().couple(*world_, joints[i]);
+    }
+    schedule_physics_catch_up();
+  }
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
   driver_.set_after_events([this] { finish_handler(); });
   api_ = std::make_unique<control::Api>(*this);
@@ -229,6 +259,13 @@ void Emulator::unsubscribe_trace(std::uint64_t client) {
 
 void Emulator::schedule_in(sim::SimDuration delay, std::function<void()> action) {
   scheduler_.schedule_at(scheduler_.now() + delay, std::move(action));
+}
+
+void Emulator::schedule_physics_catch_up() {
+  scheduler_.schedule_at(scheduler_.now() + kPhysicsCatchUp, [this] {
+    world_->advance_to(scheduler_.now());
+    schedule_physics_catch_up();
+  });
 }
 
 void Emulator::warn(const std::string& message) {

@@ -20,6 +20,7 @@
 #include "io/control_server.hpp"
 #include "io/cpu_wait.hpp"
 #include "io/realtime_driver.hpp"
+#include "physics/world_clock.hpp"
 #include "sim/scheduler.hpp"
 
 namespace dxlemu::app {
@@ -108,6 +109,9 @@ class Emulator : public control::Target {
   void finish_handler();
   /// Saves the state file if any servo's EEPROM changed since the last save.
   void save_state_if_changed();
+  /// Keeps the physics world within 10 ms of simulated time, so that a read after a
+  /// long quiet spell does not run all the ticks since at once.
+  void schedule_physics_catch_up();
 
   RunOptions options_;
   boost::asio::io_context io_;
@@ -116,6 +120,8 @@ class Emulator : public control::Target {
   faults::Injector injector_;     // outlives the buses (declared before ports_)
   sim::SimDuration handover_{0};  // subtracted from the arrival time of the client's bytes
   io::CpuWait cpu_wait_;          // marked when each handler ends
+  // The world the servos drive (null without "physics"); outlives the servos coupled to it.
+  std::unique_ptr<physics::WorldClock> world_;
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
   std::ofstream pcap_file_;

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <functional>
 #include <iomanip>
@@ -22,6 +23,7 @@
 #include "app/exec_setup.hpp"
 #include "app/log.hpp"
 #include "app/model_library.hpp"
+#include "app/physics_config.hpp"
 #include "app/robot_library.hpp"
 #include "io/child_process.hpp"
 #include "io/control_client.hpp"
@@ -265,17 +267,26 @@ void serve(const dxlemu::app::CommandLine& line, bool link_given) {
 void check_config(const dxlemu::app::CommandLine& line) {
   const auto library = load_library(line.model_dirs);
   dxlemu::app::BusConfig config;
+  std::string checked;
   if (!line.check_robot.empty()) {
     const auto robots = load_robots(line.robot_dirs, library);
     config = dxlemu::app::robot_bus(robots, line.check_robot, std::nullopt);
-    std::cout << line.check_robot << " (" << robots.find(line.check_robot)->file.string()
-              << "): ok\n";
+    checked = line.check_robot + " (" + robots.find(line.check_robot)->file.string() + ")";
   } else if (!line.check_file.empty()) {
     config = dxlemu::app::read_config(line.check_file, library);
-    std::cout << line.check_file << ": ok\n";
+    checked = line.check_file;
   } else {
     throw std::invalid_argument("check: give a config FILE or --robot NAME");
   }
+  // The MJCF loads and names every joint (at the default motion tick: `run --tick-hz` may
+  // still refuse a timestep that does not divide its own).
+  if (config.physics) {
+    const auto world = dxlemu::app::load_physics(*config.physics, std::chrono::milliseconds(1));
+    for (std::size_t i = 0; i < config.physics->joints.size(); ++i) {
+      dxlemu::app::joint_mapping(*config.physics, i, world->world());
+    }
+  }
+  std::cout << checked << ": ok\n";
   for (const auto& port : config.ports) {
     std::cout << "  " << port.name << ": " << port.servos.size()
               << (port.servos.size() == 1 ? " servo" : " servos");
@@ -283,6 +294,11 @@ void check_config(const dxlemu::app::CommandLine& line) {
       std::cout << " at " << port.link->string();
     }
     std::cout << "\n";
+  }
+  if (config.physics) {
+    std::cout << "  physics: " << config.physics->mjcf.string() << ", "
+              << config.physics->joints.size()
+              << (config.physics->joints.size() == 1 ? " joint" : " joints") << "\n";
   }
 }
 

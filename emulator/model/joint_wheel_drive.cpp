@@ -45,9 +45,13 @@ class JointWheelDrive final : public Drive {
       return c;
     }
     c.kind = DriveCommand::Kind::Follow;
-    c.target = motion_.profile ? motion_.profile->at(motion_.profile_elapsed_ms()).position +
-                                     compliance_offset()
-                               : motion_.motor.state().position;
+    if (motion_.profile) {
+      const ProfilePoint point = motion_.profile->at(motion_.profile_elapsed_ms());
+      c.target = point.position + compliance_offset();
+      c.velocity = point.velocity;
+    } else {
+      c.target = motion_.motor.state().position;
+    }
     return c;
   }
 

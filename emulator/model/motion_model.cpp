@@ -308,6 +308,12 @@ void MotionModel::absorb_device_changes() {
 
 void MotionModel::advance_to(sim::SimTime now) {
   absorb_device_changes();
+  if (coupling_) {
+    // The world runs every coupled servo's ticks, this one's among them.
+    coupling_->clock().advance_to(now);
+    publish_realtime_tick(now);
+    return;
+  }
   while (next_tick_ <= now) {
     if (activity_ == Activity::Resting) {
       // Nothing changes until an input does: jump to the first tick after `now`.
@@ -322,6 +328,10 @@ void MotionModel::advance_to(sim::SimTime now) {
     run_tick();
     next_tick_ += tick_;
   }
+  publish_realtime_tick(now);
+}
+
+void MotionModel::publish_realtime_tick(sim::SimTime now) {
   if (motion_.items.realtime_tick) {
     motion_.table.set(
         *motion_.items.realtime_tick,
@@ -350,6 +360,28 @@ void MotionModel::run_tick() {
     // Only the winding's temperature moves, and no current flows: cool_until() runs just that.
     activity_ = after.current_a == 0 ? Activity::Cooling : Activity::Active;
   }
+}
+
+void MotionModel::couple(physics::WorldClock& clock, const JointMapping& mapping) {
+  coupling_ = std::make_unique<JointCoupling>(*this, clock, mapping);
+  // The shaft is where the joint is; the servo starts there as at power-on.
+  motion_.motor.set_position(coupling_->shaft_position());
+  after_reboot();
+}
+
+double MotionModel::begin_coupled_tick(sim::SimTime tick_end) {
+  absorb_device_changes();
+  motion_.state_time = tick_end;
+  next_tick_ = tick_end + tick_;
+  return motion_.motor.drive(command(), motion_.conditions);
+}
+
+void MotionModel::end_coupled_tick(double position, double velocity) {
+  motion_.motor.follow_shaft(position, velocity, motion_.conditions);
+  protection_.check();
+  publish();
+  // The world moves the shaft whatever the servo does: no tick is skipped.
+  activity_ = Activity::Active;
 }
 
 void MotionModel::cool_until(sim::SimTime now) {

@@ -8,6 +8,7 @@
 #include "model/control_table.hpp"
 #include "model/drive.hpp"
 #include "model/hardware_fault.hpp"
+#include "model/joint_coupling.hpp"
 #include "model/motion_context.hpp"
 #include "model/motor_physics.hpp"
 #include "model/present_values.hpp"
@@ -32,8 +33,16 @@ class MotionModel {
   MotionModel(const MotionModel&) = delete;
   MotionModel& operator=(const MotionModel&) = delete;
 
-  /// Runs every tick due up to `now` (simulated time; never goes back).
+  /// Runs every tick due up to `now` (simulated time; never goes back). A servo coupled to a
+  /// physics world steps that world, and with it every servo coupled to it, tick by tick.
   void advance_to(sim::SimTime now);
+
+  /// Drives `mapping`'s joint of `clock`'s world from now on (docs/physics.md): the shaft is
+  /// where the joint is, the motor's torque goes onto the joint, and the servo ticks with the
+  /// world. `clock` must outlive this model. Call once, before the first tick.
+  void couple(physics::WorldClock& clock, const JointMapping& mapping);
+  /// True once couple() was called.
+  bool coupled() const { return coupling_ != nullptr; }
 
   /// The servo's surroundings: ambient temperature, supply voltage, external load, blocked.
   const Conditions& conditions() const { return motion_.conditions; }
@@ -87,6 +96,12 @@ class MotionModel {
   bool resting() const { return activity_ == Activity::Resting; }
 
  private:
+  friend class JointCoupling;
+  // A coupled tick in two halves around the world's steps: the motor's torque for the tick
+  // ending at `tick_end` (N·m at the shaft), then the shaft where the world moved it.
+  double begin_coupled_tick(sim::SimTime tick_end);
+  void end_coupled_tick(double position, double velocity);
+  void publish_realtime_tick(sim::SimTime now);
   void install_hooks();
   void on_goal_position(std::int64_t goal);
   void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
@@ -113,6 +128,7 @@ class MotionModel {
   // change nothing and are skipped.
   enum class Activity { Active, Cooling, Resting };
   Activity activity_ = Activity::Active;
+  std::unique_ptr<JointCoupling> coupling_;
 };
 
 }  // namespace dxlemu::model

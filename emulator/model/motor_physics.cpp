@@ -159,6 +159,59 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   heat(conditions);
 }
 
+double MotorPhysics::drive(const DriveCommand& command, const Conditions& conditions) {
+  const double supply = std::max(0.0, conditions.supply_v);
+  const double stall_at_supply = params_.stall_torque_nm * supply / params_.nominal_voltage_v;
+  const double duty_cap = std::clamp(command.duty_cap, 0.0, 1.0);
+  const double cap = std::min(command.torque_cap_nm, stall_at_supply * duty_cap);
+  const DriveCommand::Kind kind = cap > 0 ? command.kind : DriveCommand::Kind::Off;
+  const double v = state_.velocity;
+  // Duty per share of the nominal voltage: 1 at the nominal supply.
+  const double per_nominal = supply > 0 ? params_.nominal_voltage_v / supply : 0.0;
+  double duty = 0;
+  switch (kind) {
+    case DriveCommand::Kind::Off:
+      break;
+    case DriveCommand::Kind::Follow: {
+      // A stiff P controller on the position error (full torque at kFullTorqueErrorRev) with
+      // the target's velocity fed forward; the back-EMF of the difference in speed damps it.
+      const double gain = params_.stall_torque_nm / (kFullTorqueErrorRev * params_.pulses_per_rev);
+      const double wanted = gain * (command.target - state_.position);
+      duty = per_nominal *
+             (wanted / params_.stall_torque_nm + command.velocity / params_.no_load_speed);
+      break;
+    }
+    case DriveCommand::Kind::Torque:
+      // The duty whose current, after the back-EMF of the present speed, is the one asked for.
+      duty =
+          per_nominal * (command.torque_nm / params_.stall_torque_nm + v / params_.no_load_speed);
+      break;
+    case DriveCommand::Kind::Pwm:
+      duty = command.duty;
+      break;
+  }
+  duty = kind == DriveCommand::Kind::Off ? 0.0 : std::clamp(duty, -duty_cap, duty_cap);
+  // PWM -> voltage -> current -> torque. Torque off leaves the winding open: no current.
+  double current = 0;
+  if (kind != DriveCommand::Kind::Off) {
+    const double back_emf = params_.nominal_voltage_v * v / params_.no_load_speed;
+    current = (duty * supply - back_emf) / params_.resistance();
+  }
+  const double torque =
+      std::clamp(current * params_.torque_constant(), -std::max(0.0, cap), std::max(0.0, cap));
+  state_.torque_nm = torque;
+  state_.current_a = torque / params_.torque_constant();
+  state_.duty = duty;
+  state_.at_limit = kind != DriveCommand::Kind::Off && std::abs(torque) >= kAtLimit * cap;
+  return torque;
+}
+
+void MotorPhysics::follow_shaft(double position, double velocity, const Conditions& conditions) {
+  state_.position = position;
+  state_.velocity = velocity;
+  heat(conditions);
+}
+
 bool MotorPhysics::cool(const Conditions& conditions) {
   const double before = state_.temperature_c;
   heat(conditions);

@@ -25,7 +25,10 @@ struct DriveCommand {
     Pwm,     ///< apply `duty` of the supply voltage (PWM control, 1.0 wheel mode)
   };
   Kind kind = Kind::Off;
-  double target = 0;     ///< Follow: pulses
+  double target = 0;  ///< Follow: pulses
+  /// Follow: the target's own velocity, pulses/ms (the feed-forward of a shaft coupled to a
+  /// physics world; step() ignores it).
+  double velocity = 0;
   double torque_nm = 0;  ///< Torque
   double duty = 0;       ///< Pwm: -1 ~ 1
   /// The most torque the controller may use (Current Limit, Torque Limit, Goal Current).
@@ -59,6 +62,16 @@ class MotorPhysics {
 
   /// Advances one tick under `command` and `conditions`.
   void step(const DriveCommand& command, const Conditions& conditions);
+
+  /// A shaft coupled to a physics world (docs/physics.md), first half of a tick: the torque the
+  /// motor puts on its shaft for the tick under `command`, from the shaft's state at its start.
+  /// The controller's output is a duty; the duty of the supply, less the back-EMF of the shaft's
+  /// speed, drives current through the winding, and the current makes torque. Sets torque,
+  /// current, duty and at_limit; the external load and `blocked` of `conditions` are the
+  /// world's business. N·m at the output shaft.
+  double drive(const DriveCommand& command, const Conditions& conditions);
+  /// Second half: the shaft is where the world moved it (pulses, pulses/ms); the winding heats.
+  void follow_shaft(double position, double velocity, const Conditions& conditions);
 
   const MotorState& state() const { return state_; }
   /// Device side: moves the shaft without dynamics (Clear, position reset to one turn).

@@ -105,7 +105,8 @@ class OperatingModeDrive final : public Drive {
         const double goal = motion_.direction() *
                             static_cast<double>(motion_.get(items.goal_velocity)) * p.velocity_unit;
         c.kind = DriveCommand::Kind::Follow;
-        c.target = motion_.motor.state().position + ramp_velocity(goal) * motion_.motor.tick_ms();
+        c.velocity = ramp_velocity(goal);
+        c.target = motion_.motor.state().position + c.velocity * motion_.motor.tick_ms();
         return c;
       }
       case Mode::Position:
@@ -113,8 +114,13 @@ class OperatingModeDrive final : public Drive {
       case Mode::CurrentPosition:
       case Mode::Step:
         c.kind = DriveCommand::Kind::Follow;
-        c.target = motion_.profile ? motion_.profile->at(motion_.profile_elapsed_ms()).position
-                                   : motion_.motor.state().position;
+        if (motion_.profile) {
+          const ProfilePoint point = motion_.profile->at(motion_.profile_elapsed_ms());
+          c.target = point.position;
+          c.velocity = point.velocity;
+        } else {
+          c.target = motion_.motor.state().position;
+        }
         return c;
     }
     return {};

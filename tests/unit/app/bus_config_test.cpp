@@ -102,7 +102,7 @@ TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointe
       {"[]", "bus.json: /: must be an object"},
       {R"({"ports": []})", "bus.json: /ports: must be a non-empty array of ports"},
       {R"({"ports": [{"name": "a", "servos": []}], "port": 1})",
-       "bus.json: /port: unknown field (allowed: ports, robot, description)"},
+       "bus.json: /port: unknown field (allowed: ports, robot, physics, description)"},
       {R"({"ports": [{"servos": []}]})", "bus.json: /ports/0/name: is required"},
       {R"({"ports": [{"name": "a b", "servos": []}]})",
        "bus.json: /ports/0/name: must be 1 to 32 letters"},

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "physics/world.hpp"
+
+struct mjModel_;
+struct mjData_;
+
+namespace dxlemu::physics {
+
+/// The World of an MJCF model simulated by MuJoCo (built only with DXLEMU_MUJOCO). Joints are the
+/// model's hinge and slide joints by name; torques go into qfrc_applied; one step is one
+/// mj_step. MuJoCo types stay in the .cpp.
+class MujocoWorld : public World {
+ public:
+  /// Loads `file` and sets its timestep to `timestep_s`. Throws PhysicsError with MuJoCo's
+  /// message when the file does not load.
+  MujocoWorld(const std::filesystem::path& file, double timestep_s);
+  ~MujocoWorld() override;
+  MujocoWorld(const MujocoWorld&) = delete;
+  MujocoWorld& operator=(const MujocoWorld&) = delete;
+
+  /// "MuJoCo X.Y.Z" of the library linked.
+  static std::string engine();
+
+  std::optional<std::size_t> find_joint(std::string_view name) const override;
+  std::string joint_names() const override;
+  double timestep_s() const override;
+  void add_armature(std::size_t joint, double kg_m2) override;
+  void set_torque(std::size_t joint, double torque_nm) override;
+  void step() override;
+  JointState joint(std::size_t joint) const override;
+
+ private:
+  mjModel_* model_ = nullptr;
+  mjData_* data_ = nullptr;
+};
+
+}  // namespace dxlemu::physics
