@@ -1,16 +1,15 @@
-// The client's baud is set with TCSETS2/BOTHER, so any rate works; that needs <asm/termbits.h>,
-// which clashes with <termios.h>, so this file includes only the kernel's header.
+// The client's port is set raw, at any rate, by io/raw_serial.
 #include "support/serial_port.hpp"
 
-#include <asm/termbits.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <sched.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <system_error>
+
+#include "io/raw_serial.hpp"
 
 namespace dxlemu::bench {
 
@@ -23,22 +22,7 @@ int open_port(const std::string& path, std::uint32_t bps) {
   if (fd < 0) {
     fail("opening " + path);
   }
-  termios2 t{};
-  if (ioctl(fd, TCGETS2, &t) != 0) {
-    fail("TCGETS2");
-  }
-  // What cfmakeraw does, with the kernel's struct.
-  t.c_iflag &= ~(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
-  t.c_oflag &= ~OPOST;
-  t.c_lflag &= ~(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-  t.c_cflag &= ~(CSIZE | PARENB | CBAUD | CRTSCTS);
-  t.c_cflag |= CS8 | CREAD | CLOCAL | BOTHER;
-  t.c_ispeed = bps;
-  t.c_ospeed = bps;
-  if (ioctl(fd, TCSETS2, &t) != 0) {
-    fail("TCSETS2");
-  }
-  ioctl(fd, TCFLSH, TCIOFLUSH);
+  io::set_raw_serial(fd, bps, path);
   return fd;
 }
 
@@ -61,7 +45,7 @@ std::optional<Clock::time_point> read_exactly(int fd, std::span<std::uint8_t> ou
 }
 
 void flush_input(int fd) {
-  ioctl(fd, TCFLSH, TCIFLUSH);
+  io::discard_input(fd);
 }
 
 void pin_to_cpu(int cpu) {

@@ -59,19 +59,24 @@ void Bus::hear(Packet& packet) {
   if (!faults_.active()) {
     return;
   }
-  // The servos a packet is for: its ID (or Secondary ID), the IDs a Sync/Bulk instruction lists,
-  // or every servo listening to a broadcast. The others take no part, and no servo rule applies.
+  // The servos a packet is for: its ID (or Secondary ID), the IDs a Sync/Bulk instruction lists
+  // (or their Secondary IDs), or every servo listening to a broadcast. The others take no part,
+  // and no servo rule applies.
   const faults::HeardPacket& heard = packet.heard;
   const bool broadcast = heard.id == wire::kBroadcastId;
   const std::vector<std::uint8_t> listed =
       heard.decoded != nullptr ? faults::listed_ids(*heard.decoded) : std::vector<std::uint8_t>{};
   std::vector<Listener> hearing;
   hearing.reserve(packet.listening.size());
+  auto is_listed = [&listed](std::optional<std::uint8_t> id) {
+    return id && std::find(listed.begin(), listed.end(), *id) != listed.end();
+  };
   for (Listener& l : packet.listening) {
     const std::uint8_t id = l.station->servo->id();
-    const bool for_it =
-        broadcast ? listed.empty() || std::find(listed.begin(), listed.end(), id) != listed.end()
-                  : id == heard.id || l.station->servo->secondary_id() == heard.id;
+    const std::optional<std::uint8_t> secondary = l.station->servo->secondary_id();
+    // A Sync/Bulk Write block for a Secondary ID is for that group too (Bus::group_write).
+    const bool for_it = broadcast ? listed.empty() || is_listed(id) || is_listed(secondary)
+                                  : id == heard.id || secondary == heard.id;
     if (for_it) {
       l.hearing = faults_.hear(heard, l.station->index);
     }

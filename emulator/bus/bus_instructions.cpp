@@ -6,6 +6,7 @@
 #include "bus/bus.hpp"
 #include "bus/bus_station.hpp"
 #include "bus/collision.hpp"
+#include "faults/packet_facts.hpp"
 #include "wire/packet_encoder.hpp"
 
 namespace dxlemu::bus {
@@ -159,10 +160,21 @@ void Bus::group_write(const Packet& packet) {
   if (packet.heard.id != wire::kBroadcastId) {
     return;  // "The Packet ID must be 0xFE"
   }
+  const std::vector<std::uint8_t> listed = faults::listed_ids(*packet.heard.decoded);
   auto write_to = [&](std::uint8_t id, std::uint16_t address,
                       const std::vector<std::uint8_t>& data) {
-    for (const Listener* l : addressed(packet, id)) {
-      Station& s = *l->station;
+    for (const Listener& l : packet.listening) {
+      Station& s = *l.station;
+      const model::Servo& servo = *s.servo;
+      // A block for a servo's Secondary ID is its group's too, RAM only, unless the packet has
+      // a block for its own ID, which has priority (docs/bus.md "Secondary (Shadow) ID").
+      const bool own = servo.id() == id;
+      const bool group = !own && servo.secondary_id() == id &&
+                         std::find(listed.begin(), listed.end(), servo.id()) == listed.end() &&
+                         !servo.table().touches_eeprom(address, data.size());
+      if (!own && !group) {
+        continue;
+      }
       s.servo->write_part(address, data);
       faults_.wrote(packet.heard, s.index, address, data);
       settle(s, false, packet.heard.end);

@@ -1,17 +1,14 @@
-// The rate is set with TCSETS2/BOTHER, so any rate works; that needs <asm/termbits.h>, which
-// clashes with <termios.h>, so this file includes only the kernel's header.
 #include "io/serial_scan_link.hpp"
 
-#include <asm/termbits.h>
 #include <fcntl.h>
 #include <poll.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
 #include <system_error>
 
+#include "io/raw_serial.hpp"
 #include "wire/instruction_encoder.hpp"
 
 namespace dxlemu::io {
@@ -37,28 +34,13 @@ SerialScanLink::~SerialScanLink() {
 }
 
 void SerialScanLink::set_baud(std::uint32_t bps) {
-  termios2 t{};
-  if (ioctl(fd_, TCGETS2, &t) != 0) {
-    fail(path_ + ": not a serial device (TCGETS2)");
-  }
-  // What cfmakeraw does, with the kernel's struct.
-  t.c_iflag &= ~(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
-  t.c_oflag &= ~OPOST;
-  t.c_lflag &= ~(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-  t.c_cflag &= ~(CSIZE | PARENB | CBAUD | CRTSCTS);
-  t.c_cflag |= CS8 | CREAD | CLOCAL | BOTHER;
-  t.c_ispeed = bps;
-  t.c_ospeed = bps;
-  if (ioctl(fd_, TCSETS2, &t) != 0) {
-    fail(path_ + ": cannot set " + std::to_string(bps) + " bps");
-  }
-  ioctl(fd_, TCFLSH, TCIOFLUSH);
+  set_raw_serial(fd_, bps, path_);
 }
 
 std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::InstructionPacket& packet,
                                                          std::size_t max_replies,
                                                          std::chrono::microseconds timeout) {
-  ioctl(fd_, TCFLSH, TCIFLUSH);
+  discard_input(fd_);
   const std::vector<std::uint8_t> bytes = wire::encode_instruction(packet);
   std::size_t sent = 0;
   while (sent < bytes.size()) {

@@ -478,12 +478,9 @@ class Interbotix(RobotBus):
         self.wait_until(shadow_follows, "shoulder and shadow")
         self.assertEqual(self.read(client, 4, X_PRESENT_POSITION, 4), POWER_ON_POSITION)
 
-    @unittest.expectedFailure
     def test_widowx_250_shadow_follows_a_group_sync_write(self):
         """robot_write_commands sends the arm group's goals as one Sync Write to the joints'
-        IDs only, so on the real arm a shadow must act on the block of its Secondary ID.
-        dxlemu applies Secondary IDs to Write, Reg Write and Action only (docs/bus.md), so the
-        shadow stays put: a known gap, expected to fail until the bus handles it."""
+        IDs only: a shadow acts on the block of its Secondary ID (docs/bus.md)."""
         client = self.start()
         goals = {i: POWER_ON_POSITION + 200 for i in self.JOINTS}
         goals[6] = REVERSED_POWER_ON_POSITION + 200

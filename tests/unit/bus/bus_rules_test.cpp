@@ -31,6 +31,36 @@ TEST_CASE("A Secondary ID group executes RAM writes silently and the ID keeps pr
   CHECK(rig.bus.servos()[3]->table().get("return_delay_time") == 10);
 }
 
+TEST_CASE("A Sync or Bulk Write block for a Secondary ID reaches its group unless it has its own",
+          "[bus]") {
+  // Interbotix arms drive a shadow servo (Secondary ID = its master's ID) with group Sync
+  // Writes that list the masters only.
+  BusRig rig;
+  rig.add("xm430-w350", 2);
+  rig.add("xm430-w350", 3).table().set("secondary_id", 2);  // the shadow of 2
+  rig.add("xm430-w350", 4).table().set("secondary_id", 2);  // listed itself below
+  auto led = [&](std::size_t i) { return rig.bus.servos()[i]->table().get("led"); };
+  SECTION("Sync Write") {
+    rig.send({Protocol::V2, kBroadcast, wire::SyncWrite{65, 1, {{2, {1}}, {4, {0}}}}});
+    rig.run();
+    CHECK(rig.link.deliveries().empty());
+    CHECK(led(0) == 1);
+    CHECK(led(1) == 1);  // through its Secondary ID
+    CHECK(led(2) == 0);  // its own block has priority
+  }
+  SECTION("Bulk Write") {
+    rig.send({Protocol::V2, kBroadcast, wire::BulkWrite{{{2, 65, {1}}}}});
+    rig.run();
+    CHECK(led(1) == 1);
+  }
+  SECTION("EEPROM is not changed through the Secondary ID") {
+    rig.send({Protocol::V2, kBroadcast, wire::SyncWrite{9, 1, {{2, {10}}}}});  // Return Delay
+    rig.run();
+    CHECK(rig.bus.servos()[0]->table().get("return_delay_time") == 10);
+    CHECK(rig.bus.servos()[1]->table().get("return_delay_time") == 250);
+  }
+}
+
 TEST_CASE("Secondary ID 253 and above is off", "[bus]") {
   // Protocol 1.0, where 253 is a unicast Packet ID, so that only the Secondary ID's cut-off keeps
   // the packet from the servo; 252, the highest Secondary ID, shows the same packet would work.

@@ -47,6 +47,14 @@ std::vector<std::uint8_t> le16(std::int64_t v) {
   return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
 }
 
+/// Blocks the servo's shaft (or frees it), at the supply it started with (7.4 V for STS3215,
+/// within its voltage limits).
+void set_blocked(model::Servo& servo, bool blocked) {
+  model::Conditions conditions = servo.motion().conditions();
+  conditions.blocked = blocked;
+  servo.motion().set_conditions(conditions);
+}
+
 }  // namespace
 
 TEST_CASE("A FEETECH Ping is answered with FF FF ID 02 ERR SUM after wire and processing time",
@@ -410,10 +418,7 @@ TEST_CASE("FEETECH overload: over Overload torque for Protection time leaves Hol
   BusRig rig;
   sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
-  // Blocked, at the supply the servo started with (its 7.4 V, within its voltage limits).
-  model::Conditions blocked = servo.motion().conditions();
-  blocked.blocked = true;
-  servo.motion().set_conditions(blocked);
+  set_blocked(servo, true);
   ask(rig, 1, wire::Write{40, {1}});
   ask(rig, 1, wire::Write{42, le16(3000)});  // the shaft cannot get there: full torque
   rig.run(1900ms);
@@ -426,9 +431,7 @@ TEST_CASE("FEETECH overload: over Overload torque for Protection time leaves Hol
   CHECK(status(rig.link.deliveries().back()) == "id=1 error=0x20 params=C8 00");  // 20.0 %
   CHECK(servo.table().get("torque_limit") == 1000);  // held, not unloaded
   SECTION("the protection ends when Holding torque does the job") {
-    model::Conditions free = blocked;
-    free.blocked = false;
-    servo.motion().set_conditions(free);
+    set_blocked(servo, false);
     rig.run(3s);
     rig.bus.catch_up();
     CHECK(servo.table().get("servo_status") == 0);
@@ -438,7 +441,7 @@ TEST_CASE("FEETECH overload: over Overload torque for Protection time leaves Hol
     BusRig other;
     sts_bus(other, 1);
     model::Servo& free = *other.bus.servos()[0];
-    free.motion().set_conditions(blocked);
+    set_blocked(free, true);
     ask(other, 1, wire::Write{19, {12}});  // overheat and current only
     ask(other, 1, wire::Write{40, {1}});
     ask(other, 1, wire::Write{42, le16(3000)});
@@ -454,10 +457,7 @@ TEST_CASE("FEETECH overcurrent: Protection current for its time unloads the moto
   BusRig rig;
   sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
-  // Blocked, at the supply the servo started with (its 7.4 V, within its voltage limits).
-  model::Conditions blocked = servo.motion().conditions();
-  blocked.blocked = true;
-  servo.motion().set_conditions(blocked);
+  set_blocked(servo, true);
   ask(rig, 1, wire::Write{55, {0}});
   ask(rig, 1, wire::Write{28, le16(100)});  // 650 mA
   ask(rig, 1, wire::Write{38, {50}});       // 500 ms
