@@ -132,7 +132,7 @@ TEST_CASE("A profile whose header names another file, or without a header, is re
   }
 }
 
-TEST_CASE("--robot serves the profile's bus, --link replaces its one port's link",
+TEST_CASE("A profile served with --robot is its bus, and --link replaces its one port's link",
           "[app][robots]") {
   const auto bus = app::robot_bus(shipped(), "openmanipulator-x", std::nullopt);
   CHECK(bus == shipped().find("openmanipulator-x")->config);
@@ -149,7 +149,7 @@ TEST_CASE("--robot serves the profile's bus, --link replaces its one port's link
   }
 }
 
-TEST_CASE("--link is refused for a profile of several ports, naming them", "[app][robots]") {
+TEST_CASE("A profile of several ports refuses --link, naming them", "[app][robots]") {
   const fs::path dir = fs::path(DXLEMU_TEST_DATA_DIR) / "robots_two_ports";
   const auto robots = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {dir}, models());
   CHECK(robots.profiles().size() == shipped().profiles().size() + 1);
