@@ -45,13 +45,7 @@ class ConfigParser {
       : origin_(std::move(origin)), library_(library) {}
 
   BusConfig parse(const std::string& text) {
-    json doc;
-    try {
-      doc = json::parse(text);
-    } catch (const json::exception& e) {
-      // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
-      fail("", std::string("not valid JSON: ") + e.what());
-    }
+    const json doc = parse_json(text, origin_);
     object(doc, "", {"ports", "robot", "physics", "description"});
     BusConfig config;
     if (doc.contains("robot")) {
@@ -332,14 +326,27 @@ BusConfig parse_config(const std::string& text, const std::string& origin,
   return ConfigParser(origin, library).parse(text);
 }
 
-BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& library) {
+json parse_json(const std::string& text, const std::string& origin) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range.406.
+    throw ConfigError(origin, "", std::string("not valid JSON: ") + e.what());
+  }
+}
+
+std::string read_text_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw ConfigError(path.string(), "", "cannot be read");
   }
   std::stringstream text;
   text << in.rdbuf();
-  BusConfig config = parse_config(text.str(), path.string(), library);
+  return text.str();
+}
+
+BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& library) {
+  BusConfig config = parse_config(read_text_file(path), path.string(), library);
   // The MJCF file is named relative to the config file.
   if (config.physics && config.physics->mjcf.is_relative()) {
     config.physics->mjcf = path.parent_path() / config.physics->mjcf;

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -87,6 +88,12 @@ class ConfigError : public model::ModelError {
 /// ConfigError naming the JSON pointer of the first problem.
 BusConfig parse_config(const std::string& text, const std::string& origin,
                        const ModelLibrary& library);
+
+/// The JSON document `text` of file `origin`; ConfigError (pointer "") when it is not JSON.
+nlohmann::json parse_json(const std::string& text, const std::string& origin);
+
+/// The text of file `path`; ConfigError when it cannot be read.
+std::string read_text_file(const std::filesystem::path& path);
 
 /// Reads and parses the config file `path`; ConfigError also when it cannot be read.
 BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& library);

@@ -59,6 +59,15 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
   return models;
 }
 
+// --physics FILE|NAME of run and check.
+void add_physics_option(CLI::App& command, CommandLine& line) {
+  command
+      .add_option("--physics", line.physics,
+                  "Attach this physics file (an MJCF world and which servo drives which joint), "
+                  "or the shipped one of this NAME, e.g. openmanipulator-x (docs/physics.md)")
+      ->type_name("FILE|NAME");
+}
+
 // --robots DIR of run, check and robots.
 void add_robots_dir_option(CLI::App& command, CommandLine& line) {
   command
@@ -77,6 +86,7 @@ CLI::App* add_check(CLI::App& app, CommandLine& line) {
       check->add_option("--robot", line.check_robot, "The robot profile NAME (dxlemu robots)")
           ->type_name("NAME");
   file->excludes(robot);
+  add_physics_option(*check, line);
   add_models_option(*check, line);
   add_robots_dir_option(*check, line);
   check->footer("Give FILE or --robot NAME.");
@@ -84,8 +94,9 @@ CLI::App* add_check(CLI::App& app, CommandLine& line) {
 }
 
 CLI::App* add_robots(CLI::App& app, CommandLine& line) {
-  auto* robots = app.add_subcommand(
-      "robots", "List the robot profiles: name, ports, servos, title, public source");
+  auto* robots = app.add_subcommand("robots",
+                                    "List the robot profiles: name, ports, servos, a shipped "
+                                    "physics model, title, public source");
   add_models_option(*robots, line);
   add_robots_dir_option(*robots, line);
   robots->footer("Serve one with dxlemu run --robot NAME (docs/robots.md).");
@@ -151,6 +162,7 @@ const CLI::Option* add_bus_options(CLI::App& run, CommandLine& line) {
   link_option->excludes(config_option);
   robot_option->excludes(config_option);
   robot_option->excludes(servo_option);
+  add_physics_option(run, line);
   add_models_option(run, line);
   add_robots_dir_option(run, line);
   run.add_option("--baud", line.baud,

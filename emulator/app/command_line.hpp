@@ -50,6 +50,8 @@ struct CommandLine {
   std::string check_file;
   /// check --robot NAME; empty with check FILE.
   std::string check_robot;
+  /// --physics of run and check: a physics file, or a shipped one's name; empty: none.
+  std::string physics;
   // run: the bus.
   std::vector<std::string> servo_options;  ///< --servo, before parse_servo_option
   std::string link;                        ///< --link

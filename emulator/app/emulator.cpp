@@ -198,6 +198,10 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       }
       servo->motion().couple(*world_, joints[i]);
     }
+    physics_view_.emplace(control::PhysicsView{*world_, config.physics->mjcf, {}});
+    for (const JointConfig& j : config.physics->joints) {
+      physics_view_->coupled.push_back({j.joint, j.port, j.id});
+    }
     schedule_physics_catch_up();
   }
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).

@@ -85,6 +85,7 @@ class Emulator : public control::Target {
   std::vector<std::string> port_names() const override;
   control::PortView* port(std::string_view name) override;
   nlohmann::json port_info(std::string_view port) const override;
+  control::PhysicsView* physics() override { return physics_view_ ? &*physics_view_ : nullptr; }
   sim::SimTime now() const override;
   bool manual_clock() const override;
   void step_clock(sim::SimDuration d) override;
@@ -122,6 +123,7 @@ class Emulator : public control::Target {
   io::CpuWait cpu_wait_;          // marked when each handler ends
   // The world the servos drive (null without "physics"); outlives the servos coupled to it.
   std::unique_ptr<physics::WorldClock> world_;
+  std::optional<control::PhysicsView> physics_view_;  // of world_, for the control API
   std::vector<std::unique_ptr<Port>> ports_;
   std::ofstream trace_;
   std::ofstream pcap_file_;

@@ -237,6 +237,15 @@ dxlemu::app::PortConfig port_of_options(const dxlemu::app::CommandLine& line) {
 
 // dxlemu run: serves until SIGINT, SIGTERM or the control API's shutdown. `link_given`: whether
 // --link was on the command line (it has a default).
+// --physics: the physics file it names, attached to `config`.
+void attach_physics_option(dxlemu::app::BusConfig& config, const dxlemu::app::CommandLine& line,
+                           const dxlemu::app::ModelLibrary& library) {
+  if (!line.physics.empty()) {
+    const auto robots = load_robots(line.robot_dirs, library);
+    dxlemu::app::attach_physics(config, robots.physics_file(line.physics));
+  }
+}
+
 void serve(const dxlemu::app::CommandLine& line, bool link_given) {
   dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(line.log_level));
   dxlemu::app::RunOptions options = line.options;
@@ -258,6 +267,7 @@ void serve(const dxlemu::app::CommandLine& line, bool link_given) {
   } else {
     config.ports.push_back(port_of_options(line));
   }
+  attach_physics_option(config, line, library);
   apply_bus_options(config, library, line.baud, line.protocol);
   dxlemu::app::Emulator emulator(library, config, options);
   emulator.run(std::cout);
@@ -278,6 +288,7 @@ void check_config(const dxlemu::app::CommandLine& line) {
   } else {
     throw std::invalid_argument("check: give a config FILE or --robot NAME");
   }
+  attach_physics_option(config, line, library);
   // The MJCF loads and names every joint (at the default motion tick: `run --tick-hz` may
   // still refuse a timestep that does not divide its own).
   if (config.physics) {
@@ -327,15 +338,20 @@ void list_robots(const dxlemu::app::CommandLine& line) {
     title_width = std::max(title_width, profile.header().title.size());
   }
   constexpr int kCountWidth = 7;
+  // PHYSICS: the shipped physics file of that name, for run --physics (docs/physics.md).
+  constexpr int kPhysicsWidth = 9;
   std::cout << std::left << std::setw(static_cast<int>(name_width + 2)) << "NAME"
             << std::setw(kCountWidth) << "PORTS" << std::setw(kCountWidth) << "SERVOS"
-            << std::setw(static_cast<int>(title_width + 2)) << "TITLE"
+            << std::setw(kPhysicsWidth) << "PHYSICS" << std::setw(static_cast<int>(title_width + 2))
+            << "TITLE"
             << "SOURCE\n";
   for (const auto& [name, profile] : robots.profiles()) {
     std::cout << std::setw(static_cast<int>(name_width + 2)) << name << std::setw(kCountWidth)
               << profile.config.ports.size() << std::setw(kCountWidth)
-              << servo_count(profile.config) << std::setw(static_cast<int>(title_width + 2))
-              << profile.header().title << profile.header().sources.front() << "\n";
+              << servo_count(profile.config) << std::setw(kPhysicsWidth)
+              << (robots.find_physics(name) != nullptr ? "yes" : "-")
+              << std::setw(static_cast<int>(title_width + 2)) << profile.header().title
+              << profile.header().sources.front() << "\n";
   }
 }
 

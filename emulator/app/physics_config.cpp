@@ -25,8 +25,7 @@ class PhysicsParser {
   PhysicsParser(const std::string& origin, const std::vector<PortConfig>& ports)
       : origin_(origin), ports_(ports) {}
 
-  PhysicsConfig parse(const json& value) {
-    const std::string at = "/physics";
+  PhysicsConfig parse(const json& value, const std::string& at) {
     if (!physics::mujoco_available()) {
       fail(at,
            "this build of dxlemu has no MuJoCo, so it cannot simulate physics (rebuild with "
@@ -35,6 +34,7 @@ class PhysicsParser {
     object(value, at, {"mjcf", "timestep_ms", "joints", "description"});
     PhysicsConfig config;
     config.origin = origin_;
+    config.pointer = at;
     config.mjcf = string(member(value, at, "mjcf"), at + "/mjcf");
     if (value.contains("timestep_ms")) {
       const double dt = number(value["timestep_ms"], at + "/timestep_ms");
@@ -159,8 +159,18 @@ class PhysicsParser {
 }  // namespace
 
 PhysicsConfig parse_physics(const json& value, const std::string& origin,
-                            const std::vector<PortConfig>& ports) {
-  return PhysicsParser(origin, ports).parse(value);
+                            const std::vector<PortConfig>& ports, const std::string& pointer) {
+  return PhysicsParser(origin, ports).parse(value, pointer);
+}
+
+PhysicsConfig read_physics_file(const std::filesystem::path& file,
+                                const std::vector<PortConfig>& ports) {
+  const std::string origin = file.string();
+  PhysicsConfig config = parse_physics(parse_json(read_text_file(file), origin), origin, ports, "");
+  if (config.mjcf.is_relative()) {
+    config.mjcf = file.parent_path() / config.mjcf;
+  }
+  return config;
 }
 
 std::unique_ptr<physics::WorldClock> load_physics(const PhysicsConfig& config,
@@ -171,12 +181,13 @@ std::unique_ptr<physics::WorldClock> load_physics(const PhysicsConfig& config,
   try {
     world = physics::load_mjcf_world(config.mjcf, timestep_s);
   } catch (const physics::PhysicsError& e) {
-    throw ConfigError(config.origin, "/physics/mjcf", config.mjcf.string() + ": " + e.what());
+    throw ConfigError(config.origin, config.pointer + "/mjcf",
+                      config.mjcf.string() + ": " + e.what());
   }
   try {
     return std::make_unique<physics::WorldClock>(std::move(world), tick);
   } catch (const std::invalid_argument& e) {
-    throw ConfigError(config.origin, "/physics/timestep_ms", e.what());
+    throw ConfigError(config.origin, config.pointer + "/timestep_ms", e.what());
   }
 }
 
@@ -185,9 +196,13 @@ model::JointMapping joint_mapping(const PhysicsConfig& config, std::size_t index
   const JointConfig& j = config.joints.at(index);
   const auto found = world.find_joint(j.joint);
   if (!found) {
-    throw ConfigError(config.origin, "/physics/joints/" + std::to_string(index) + "/joint",
+    std::string names;
+    for (const std::string& name : world.joints()) {
+      names += (names.empty() ? "" : ", ") + name;
+    }
+    throw ConfigError(config.origin, config.pointer + "/joints/" + std::to_string(index) + "/joint",
                       config.mjcf.string() + " has no hinge or slide joint \"" + j.joint +
-                          "\" (its joints: " + world.joint_names() + ")");
+                          "\" (its joints: " + (names.empty() ? "none" : names) + ")");
   }
   model::JointMapping m;
   m.joint = *found;

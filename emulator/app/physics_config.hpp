@@ -39,14 +39,23 @@ struct PhysicsConfig {
   std::vector<JointConfig> joints;
   /// The config file (or request) it came from, for errors found when the world is loaded.
   std::string origin;
+  /// Where in `origin` the object is: "/physics" in a config, "" in a physics file.
+  std::string pointer = "/physics";
   bool operator==(const PhysicsConfig&) const = default;
 };
 
-/// Parses the "physics" member `value` of config `origin` against its `ports` (already parsed).
-/// Throws ConfigError naming the JSON pointer (under /physics) and the reason; also when this
-/// build has no MuJoCo.
+/// Parses the physics object `value`, at JSON pointer `pointer` of file `origin`, against the
+/// config's `ports` (already parsed). Throws ConfigError naming the JSON pointer and the reason;
+/// also when this build has no MuJoCo.
 PhysicsConfig parse_physics(const nlohmann::json& value, const std::string& origin,
-                            const std::vector<PortConfig>& ports);
+                            const std::vector<PortConfig>& ports,
+                            const std::string& pointer = "/physics");
+
+/// Reads a physics file (`dxlemu run --physics FILE`): one physics object, as a config's
+/// "physics" member, whose "mjcf" is relative to the file's folder. Throws ConfigError naming
+/// the file, the JSON pointer and the reason.
+PhysicsConfig read_physics_file(const std::filesystem::path& file,
+                                const std::vector<PortConfig>& ports);
 
 /// Loads the world of `config` stepping in motion ticks of `tick`. Throws ConfigError (naming
 /// /physics/mjcf or /physics/timestep_ms) when the MJCF does not load or the timestep does not

@@ -11,6 +11,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kProfileExtension = ".json";
+// Beside the profiles: the physics files --physics can name (docs/physics.md "Shipped arms").
+constexpr const char* kPhysicsFolder = "physics";
 
 }  // namespace
 
@@ -35,6 +37,15 @@ void RobotLibrary::add_directory(const fs::path& dir, const ModelLibrary& models
     }
     // A user's profile replaces the shipped one of its name, as a user's model file does.
     profiles_.insert_or_assign(stem, RobotProfile{file, std::move(config)});
+  }
+  const fs::path physics_dir = dir / kPhysicsFolder;
+  std::error_code error;
+  if (fs::is_directory(physics_dir, error)) {
+    for (const auto& f : fs::directory_iterator(physics_dir)) {
+      if (f.path().extension() == kProfileExtension) {
+        physics_.insert_or_assign(f.path().stem().string(), f.path());
+      }
+    }
   }
 }
 
@@ -67,6 +78,38 @@ std::string RobotLibrary::why_not_found(const std::string& name) const {
   }
   return "unknown robot \"" + name + "\" (known: " + (known.empty() ? "none" : known) +
          "; dxlemu robots lists them)";
+}
+
+const fs::path* RobotLibrary::find_physics(const std::string& name) const {
+  const auto it = physics_.find(name);
+  return it == physics_.end() ? nullptr : &it->second;
+}
+
+fs::path RobotLibrary::physics_file(const std::string& argument) const {
+  std::error_code error;
+  if (fs::is_regular_file(argument, error)) {
+    return argument;
+  }
+  if (argument.find('/') == std::string::npos) {
+    if (const fs::path* file = find_physics(argument)) {
+      return *file;
+    }
+  }
+  std::string known;
+  for (const auto& [key, file] : physics_) {
+    known += (known.empty() ? "" : ", ") + key;
+  }
+  throw std::invalid_argument("--physics: " + argument +
+                              " is no file, nor a shipped physics model (known: " +
+                              (known.empty() ? "none" : known) + "; docs/physics.md)");
+}
+
+void attach_physics(BusConfig& config, const fs::path& file) {
+  if (config.physics) {
+    throw std::invalid_argument("--physics: the config has a \"physics\" of its own (" +
+                                config.physics->origin + ")");
+  }
+  config.physics = read_physics_file(file, config.ports);
 }
 
 BusConfig robot_bus(const RobotLibrary& robots, const std::string& name,

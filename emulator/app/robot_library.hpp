@@ -27,7 +27,8 @@ class RobotLibrary {
  public:
   /// Reads every *.json file of `shipped_dir` (none when it does not exist), then of each
   /// `extra_dirs` directory (which must exist), checking each against `models` as a config is
-  /// checked. Each file must have a robot header whose name is the file's name without ".json".
+  /// checked; and notes the physics/*.json files of each (read when attached). Each file must have
+  /// a robot header whose name is the file's name without ".json".
   static RobotLibrary load(const std::filesystem::path& shipped_dir,
                            const std::vector<std::filesystem::path>& extra_dirs,
                            const ModelLibrary& models);
@@ -38,12 +39,23 @@ class RobotLibrary {
   std::string why_not_found(const std::string& name) const;
   /// All profiles, by name.
   const std::map<std::string, RobotProfile>& profiles() const { return profiles_; }
+  /// The physics file called `name` (physics/NAME.json beside the profiles), or nullptr.
+  const std::filesystem::path* find_physics(const std::string& name) const;
+  /// The file `dxlemu run --physics ARGUMENT` attaches: ARGUMENT when it is a file, else the
+  /// physics file it names. Throws std::invalid_argument naming the known ones.
+  std::filesystem::path physics_file(const std::string& argument) const;
 
  private:
   void add_directory(const std::filesystem::path& dir, const ModelLibrary& models);
 
   std::map<std::string, RobotProfile> profiles_;
+  std::map<std::string, std::filesystem::path> physics_;
 };
+
+/// Attaches the physics file `file` to `config` (`--physics`). Throws std::invalid_argument when
+/// the config has physics already, ConfigError naming the file, pointer and reason for a bad
+/// file (or a build without MuJoCo).
+void attach_physics(BusConfig& config, const std::filesystem::path& file);
 
 /// The bus `dxlemu run --robot NAME` serves: the profile `name`'s config, with `link` (run's
 /// --link, when given) as its port's link. Throws std::invalid_argument naming the known

@@ -10,6 +10,7 @@
 #include "control/condition_commands.hpp"
 #include "control/fault_commands.hpp"
 #include "control/item_commands.hpp"
+#include "control/physics_commands.hpp"
 #include "control/port_commands.hpp"
 #include "control/reply.hpp"
 #include "control/request.hpp"
@@ -63,6 +64,8 @@ const std::vector<Command>& commands() {
       {"scenario.load", {"file", "scenario"}, scenario_load},
       {"trace.subscribe", {"port"}, trace_subscribe},
       {"trace.unsubscribe", {}, trace_unsubscribe},
+      {"physics", {"joint"}, physics_state},
+      {"physics.apply", {"joint", "body", "torque_nm", "force_n"}, physics_apply},
       {"clock.now", {}, clock_now},
       {"clock.step", {"ms", "us", "ns"}, clock_step},
       {"stats", {"port"}, stats},
@@ -189,6 +192,9 @@ std::optional<std::string> Api::check(Target& target, const ordered_json& reques
     }
     if (command.name == "fault.add") {
       rule_of(target, args.value("rule"));
+    }
+    if (command.name == "physics" || command.name == "physics.apply") {
+      check_physics_request(target, args);
     }
   } catch (const std::exception& e) {
     return std::string(e.what());

@@ -1,5 +1,6 @@
 #include "control/scenario.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -16,18 +17,23 @@ constexpr double kNsPerMs = 1e6;
 // A day of simulated time: later steps are surely a unit mistake.
 constexpr double kMaxAtMs = 86'400'000;
 
+// What a step may do: change the bus, its servos and their world; never read or wait.
+constexpr std::array<std::string_view, 10> kAllowed = {
+    "set",       "condition.set", "servo.detach", "servo.attach",  "servo.power_cycle",
+    "fault.add", "fault.remove",  "fault.clear",  "physics.apply", "shutdown"};
+
+std::string allowed_list() {
+  std::string out;
+  for (const auto allowed : kAllowed) {
+    out += (out.empty() ? "" : ", ") + std::string(allowed);
+  }
+  return out;
+}
+
 }  // namespace
 
 bool allowed_in_scenario(std::string_view command) {
-  static constexpr std::array<std::string_view, 9> kAllowed = {
-      "set",       "condition.set", "servo.detach", "servo.attach", "servo.power_cycle",
-      "fault.add", "fault.remove",  "fault.clear",  "shutdown"};
-  for (const auto allowed : kAllowed) {
-    if (allowed == command) {
-      return true;
-    }
-  }
-  return false;
+  return std::find(kAllowed.begin(), kAllowed.end(), command) != kAllowed.end();
 }
 
 std::vector<ScenarioStep> parse_scenario(const nlohmann::ordered_json& scenario) {
@@ -65,10 +71,7 @@ std::vector<ScenarioStep> parse_scenario(const nlohmann::ordered_json& scenario)
     }
     if (!allowed_in_scenario(cmd->get<std::string>())) {
       throw ScenarioError(pointer + "/cmd",
-                          cmd->dump() +
-                              " cannot be a step (steps may use set, condition.set, "
-                              "servo.detach, servo.attach, servo.power_cycle, fault.add, "
-                              "fault.remove, fault.clear, shutdown)");
+                          cmd->dump() + " cannot be a step (steps may use " + allowed_list() + ")");
     }
     nlohmann::ordered_json request = step;
     request.erase("at_ms");

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "control/physics_view.hpp"
 #include "control/port_view.hpp"
 #include "faults/injector.hpp"
 #include "sim/sim_time.hpp"
@@ -26,6 +27,8 @@ class Target {
   /// Extra facts about a port for `list` (e.g. {"pty": "...", "link": "..."}): an object, which
   /// may be empty (or null).
   virtual nlohmann::json port_info(std::string_view port) const = 0;
+  /// The physics world the servos drive, or nullptr when the config has none. The target owns it.
+  virtual PhysicsView* physics() = 0;
   /// Simulated time now (the scheduler's clock).
   virtual sim::SimTime now() const = 0;
   /// True when simulated time only moves by clock.step (--timing manual).

@@ -3,6 +3,8 @@
 #include <mujoco/mujoco.h>
 
 #include <array>
+#include <string>
+#include <vector>
 
 #include "physics/mjcf_world.hpp"
 
@@ -45,6 +47,8 @@ MujocoWorld::MujocoWorld(const std::filesystem::path& file, double timestep_s) {
     mj_deleteModel(model_);
     throw PhysicsError("MuJoCo cannot allocate its data");
   }
+  actuator_.assign(static_cast<std::size_t>(model_->nv), 0.0);
+  external_.assign(static_cast<std::size_t>(model_->nv), 0.0);
   // Positions and velocities of the initial state, before the first step.
   mj_forward(model_, data_);
 }
@@ -67,16 +71,34 @@ std::optional<std::size_t> MujocoWorld::find_joint(std::string_view name) const 
   return static_cast<std::size_t>(id);
 }
 
-std::string MujocoWorld::joint_names() const {
-  std::string out;
+std::vector<std::string> MujocoWorld::joints() const {
+  std::vector<std::string> out;
   for (int j = 0; j < model_->njnt; ++j) {
     const char* name = mj_id2name(model_, mjOBJ_JOINT, j);
-    if (name == nullptr || !one_dof(model_->jnt_type[j])) {
-      continue;
+    if (name != nullptr && one_dof(model_->jnt_type[j])) {
+      out.emplace_back(name);
     }
-    out += (out.empty() ? "" : ", ") + std::string(name);
   }
-  return out.empty() ? "none" : out;
+  return out;
+}
+
+std::optional<std::size_t> MujocoWorld::find_body(std::string_view name) const {
+  const std::string key(name);
+  const int id = mj_name2id(model_, mjOBJ_BODY, key.c_str());
+  if (id < 0) {
+    return std::nullopt;
+  }
+  return static_cast<std::size_t>(id);
+}
+
+std::vector<std::string> MujocoWorld::bodies() const {
+  std::vector<std::string> out;
+  for (int b = 0; b < model_->nbody; ++b) {
+    if (const char* name = mj_id2name(model_, mjOBJ_BODY, b); name != nullptr) {
+      out.emplace_back(name);
+    }
+  }
+  return out;
 }
 
 double MujocoWorld::timestep_s() const {
@@ -87,8 +109,39 @@ void MujocoWorld::add_armature(std::size_t joint, double kg_m2) {
   model_->dof_armature[model_->jnt_dofadr[joint]] += kg_m2;
 }
 
+void MujocoWorld::apply(std::size_t dof) {
+  data_->qfrc_applied[dof] = actuator_[dof] + external_[dof];
+}
+
 void MujocoWorld::set_torque(std::size_t joint, double torque_nm) {
-  data_->qfrc_applied[model_->jnt_dofadr[joint]] = torque_nm;
+  const auto dof = static_cast<std::size_t>(model_->jnt_dofadr[joint]);
+  actuator_[dof] = torque_nm;
+  apply(dof);
+}
+
+void MujocoWorld::set_external_torque(std::size_t joint, double torque_nm) {
+  const auto dof = static_cast<std::size_t>(model_->jnt_dofadr[joint]);
+  external_[dof] = torque_nm;
+  apply(dof);
+}
+
+void MujocoWorld::set_wrench(std::size_t body, const Wrench& wrench) {
+  // xfrc_applied: per body, a force then a torque, at the centre of mass, world frame.
+  mjtNum* out = data_->xfrc_applied + 6 * body;
+  for (std::size_t i = 0; i < 3; ++i) {
+    out[i] = wrench.force[i];
+    out[3 + i] = wrench.torque[i];
+  }
+}
+
+Wrench MujocoWorld::wrench(std::size_t body) const {
+  const mjtNum* in = data_->xfrc_applied + 6 * body;
+  Wrench w;
+  for (std::size_t i = 0; i < 3; ++i) {
+    w.force[i] = in[i];
+    w.torque[i] = in[3 + i];
+  }
+  return w;
 }
 
 void MujocoWorld::step() {
@@ -97,6 +150,12 @@ void MujocoWorld::step() {
 
 JointState MujocoWorld::joint(std::size_t joint) const {
   return {data_->qpos[model_->jnt_qposadr[joint]], data_->qvel[model_->jnt_dofadr[joint]]};
+}
+
+JointForces MujocoWorld::forces(std::size_t joint) const {
+  // mj_step leaves the forces of the state it integrated from: those of the last step.
+  const auto dof = static_cast<std::size_t>(model_->jnt_dofadr[joint]);
+  return {actuator_[dof], external_[dof], data_->qfrc_constraint[dof], data_->qfrc_bias[dof]};
 }
 
 }  // namespace dxlemu::physics

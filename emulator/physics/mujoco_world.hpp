@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "physics/world.hpp"
 
@@ -29,16 +30,28 @@ class MujocoWorld : public World {
   static std::string engine();
 
   std::optional<std::size_t> find_joint(std::string_view name) const override;
-  std::string joint_names() const override;
+  std::vector<std::string> joints() const override;
+  std::optional<std::size_t> find_body(std::string_view name) const override;
+  std::vector<std::string> bodies() const override;
   double timestep_s() const override;
   void add_armature(std::size_t joint, double kg_m2) override;
   void set_torque(std::size_t joint, double torque_nm) override;
+  void set_external_torque(std::size_t joint, double torque_nm) override;
+  void set_wrench(std::size_t body, const Wrench& wrench) override;
+  Wrench wrench(std::size_t body) const override;
   void step() override;
   JointState joint(std::size_t joint) const override;
+  JointForces forces(std::size_t joint) const override;
 
  private:
+  // qfrc_applied of a degree of freedom: the actuator's torque plus the external one.
+  void apply(std::size_t dof);
+
   mjModel_* model_ = nullptr;
   mjData_* data_ = nullptr;
+  // Per degree of freedom, the two parts of qfrc_applied.
+  std::vector<double> actuator_;
+  std::vector<double> external_;
 };
 
 }  // namespace dxlemu::physics

@@ -1,9 +1,11 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dxlemu::physics {
 
@@ -11,6 +13,20 @@ namespace dxlemu::physics {
 struct JointState {
   double position_rad = 0;    ///< hinge angle (rad) or slide position (m)
   double velocity_rad_s = 0;  ///< rad/s (m/s for a slide)
+};
+
+/// The generalized forces on one joint in the last step (N·m on a hinge, N on a slide).
+struct JointForces {
+  double actuator = 0;    ///< what set_torque() applied: the servo's drive
+  double external = 0;    ///< what set_external_torque() applied: a push from outside
+  double constraint = 0;  ///< what limits, contacts and equality constraints applied
+  double bias = 0;        ///< gravity, Coriolis and centrifugal: what holding still must balance
+};
+
+/// A force and a torque on a body at its centre of mass, in world coordinates (N, N·m).
+struct Wrench {
+  std::array<double, 3> force{};
+  std::array<double, 3> torque{};
 };
 
 /// A rigid-body world with joints that actuators push on: the seam between the servos and a
@@ -23,18 +39,31 @@ class World {
 
   /// The index of the one-degree-of-freedom joint (hinge or slide) called `name`, or nullopt.
   virtual std::optional<std::size_t> find_joint(std::string_view name) const = 0;
-  /// The names of the joints find_joint() accepts, for error messages.
-  virtual std::string joint_names() const = 0;
+  /// The names of the joints find_joint() accepts, in the model's order.
+  virtual std::vector<std::string> joints() const = 0;
+  /// The index of the body called `name`, or nullopt.
+  virtual std::optional<std::size_t> find_body(std::string_view name) const = 0;
+  /// The names of the bodies find_body() accepts, in the model's order.
+  virtual std::vector<std::string> bodies() const = 0;
   /// The length of one step, s.
   virtual double timestep_s() const = 0;
   /// Adds rotor inertia seen at the joint (an actuator's gearbox), kg·m².
   virtual void add_armature(std::size_t joint, double kg_m2) = 0;
   /// The generalized force on `joint` for the following steps (N·m on a hinge), until set again.
   virtual void set_torque(std::size_t joint, double torque_nm) = 0;
+  /// A generalized force on `joint` from outside (the control API), added to set_torque()'s for
+  /// the following steps, until set again.
+  virtual void set_external_torque(std::size_t joint, double torque_nm) = 0;
+  /// A wrench on `body` for the following steps, until set again (zero: none).
+  virtual void set_wrench(std::size_t body, const Wrench& wrench) = 0;
+  /// The wrench set_wrench() last put on `body`.
+  virtual Wrench wrench(std::size_t body) const = 0;
   /// Advances one timestep.
   virtual void step() = 0;
   /// The joint now.
   virtual JointState joint(std::size_t joint) const = 0;
+  /// The forces on `joint` in the last step (zero before the first).
+  virtual JointForces forces(std::size_t joint) const = 0;
 };
 
 }  // namespace dxlemu::physics

@@ -201,6 +201,19 @@ class Control:
         """Stops this connection's trace events."""
         self.call("trace.unsubscribe")
 
+    def physics(self, joint: str | None = None) -> dict:
+        """The physics world now: its joints (position, velocity, the forces on each, the servo
+        driving it) and the bodies pushed; with `joint`, that joint's entry alone."""
+        return self.call("physics", **_without_none(joint=joint))
+
+    def physics_apply(self, *, joint: str | None = None, body: str | None = None,
+                      torque_nm: float | list[float] | None = None,
+                      force_n: list[float] | None = None) -> dict:
+        """Pushes a joint (`torque_nm`, a number) or a body (`force_n` and/or `torque_nm`,
+        [x, y, z] in world coordinates) from now on; zero removes the push."""
+        return self.call("physics.apply", **_without_none(joint=joint, body=body,
+                                                           torque_nm=torque_nm, force_n=force_n))
+
     def shutdown(self) -> None:
         """Stops the daemon as SIGTERM would, after the reply."""
         self.call("shutdown")

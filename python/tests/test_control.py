@@ -44,6 +44,14 @@ def test_a_refused_request_raises_with_the_daemons_message_and_the_connection_st
     assert "help" in control.help()
 
 
+def test_physics_methods_reach_the_daemon_which_says_it_has_no_world(dxlemu):
+    # The default bus has no "physics": both commands are refused, by name, not as unknown.
+    with pytest.raises(ControlError, match="physics: this daemon simulates no physics"):
+        dxlemu.control.physics()
+    with pytest.raises(ControlError, match="physics.apply: this daemon simulates no physics"):
+        dxlemu.control.physics_apply(joint="shoulder", torque_nm=0.5)
+
+
 def test_no_events_without_a_subscription(dxlemu):
     with dxlemu.client() as client:
         client.ping(1)  # traffic that a subscribed connection would get two events for

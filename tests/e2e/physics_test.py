@@ -68,6 +68,67 @@ class PhysicsTest(unittest.TestCase):
         # m*g*l over the torque constant: 0.4905 N.m / (4.1 / 2.3 N.m/A) in 2.69 mA units.
         self.assertLessEqual(abs(read(PRESENT_CURRENT, 2) - (-102.3)), 2)
 
+    def physics_file(self) -> str:
+        """The shipped pendulum as a physics file for --physics, on servo 1 of port dxl0."""
+        path = os.path.join(self.dir.name, "pendulum-physics.json")
+        with open(path, "w") as f:
+            json.dump({"mjcf": str(EXAMPLES / "pendulum.xml"),
+                       "joints": [{"port": "dxl0", "id": 1, "joint": "shoulder",
+                                   "zero_offset_deg": 180}]}, f)
+        return path
+
+    @unittest.skipUnless(HAVE_MUJOCO, "this build has no MuJoCo")
+    def test_a_physics_file_attached_to_servos_and_a_push_through_the_control_api(self):
+        daemon = Daemon("--servo", "xm430-w350:1", "--link", self.link,
+                        "--physics", self.physics_file(), "--timing", "manual",
+                        "--control", os.path.join(self.dir.name, "control.sock"))
+        self.addCleanup(daemon.stop)
+        control = Control(daemon.ready["control"])
+        self.addCleanup(control.close)
+        port = Port(self.link)
+        self.addCleanup(port.close)
+
+        def position() -> int:
+            port.write(packet2(1, READ, bytes([PRESENT_POSITION, 0, 4, 0])))
+            servo, error, data = port.status2()
+            self.assertEqual((servo, error), (1, 0))
+            return signed(data)
+
+        control.call("clock.step", ms=1000)  # torque off: onto the +60 degree stop
+        joint = control.call("physics", joint="shoulder")
+        self.assertEqual((joint["port"], joint["servo"]), ("dxl0", 1))
+        self.assertAlmostEqual(joint["position_rad"], 1.0472, delta=0.02)
+        self.assertLessEqual(abs(position() - STOP), 10)
+        # A push stronger than gravity lifts the link onto the other stop; the shaft follows.
+        pushed = control.call("physics.apply", joint="shoulder", torque_nm=-1)
+        self.assertEqual(pushed["external_torque_nm"], -1)
+        control.call("clock.step", ms=1000)
+        self.assertLessEqual(abs(position() - (LEVEL - 683)), 10)
+        with self.assertRaisesRegex(Exception, 'no hinge or slide joint "elbow"'):
+            control.call("physics.apply", joint="elbow", torque_nm=1)
+        self.assertEqual(control.call("physics")["joints"][0]["external_torque_nm"], -1)
+
+    def test_check_with_a_physics_file_names_it_when_refused(self):
+        plain = os.path.join(self.dir.name, "plain.json")
+        with open(plain, "w") as f:
+            json.dump({"ports": [{"name": "dxl0", "servos": [{"model": "xm430-w350", "id": 1}]}]},
+                      f)
+        physics = self.physics_file()
+        result = subprocess.run(dxlemu_command("check", plain, "--physics", physics),
+                                capture_output=True, text=True, timeout=30)
+        if HAVE_MUJOCO:
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertIn("physics: " + str(EXAMPLES / "pendulum.xml") + ", 1 joint",
+                          result.stdout)
+        else:
+            self.assertEqual(result.returncode, 2)
+            self.assertIn(physics + ": this build of dxlemu has no MuJoCo", result.stderr)
+        # A config with physics of its own refuses another.
+        result = subprocess.run(dxlemu_command("check", self.config, "--physics", physics),
+                                capture_output=True, text=True, timeout=30)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("physics", result.stderr)
+
     def test_check_loads_the_world_or_refuses_it_without_mujoco(self):
         result = subprocess.run(dxlemu_command("check", self.config), capture_output=True,
                                 text=True, timeout=30)

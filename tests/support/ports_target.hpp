@@ -43,6 +43,7 @@ class PortsTarget : public control::Target {
   bool shutdown_requested = false;
   std::map<std::uint64_t, std::vector<std::string>> subscriptions;  // by client
   std::vector<std::string> warnings;
+  control::PhysicsView* world = nullptr;  // what physics() returns
 
   /// Adds a port named `name` under the target's fault rules.
   Port& add_port(const std::string& name) {
@@ -73,6 +74,7 @@ class PortsTarget : public control::Target {
   nlohmann::json port_info(std::string_view name) const override {
     return {{"pty", "/dev/pts/" + std::string(name)}};
   }
+  control::PhysicsView* physics() override { return world; }
   sim::SimTime now() const override { return scheduler.now(); }
   bool manual_clock() const override { return manual; }
   void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }

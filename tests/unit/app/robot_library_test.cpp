@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "app/robot_library.hpp"
+#include "physics/mjcf_world.hpp"
 
 using namespace dxlemu;
 using app::ConfigError;
@@ -161,5 +162,64 @@ TEST_CASE("A profile of several ports refuses --link, naming them", "[app][robot
     CHECK(std::string(e.what()) == "--link: robot two-ports has 2 ports (arm, gripper); copy " +
                                        (dir / "two-ports.json").string() +
                                        " and set each port's link there");
+  }
+}
+
+TEST_CASE("--physics names a file or a physics file beside the profiles, and attaches it",
+          "[app][robots][physics]") {
+  const fs::path dir = fs::path(DXLEMU_TEST_DATA_DIR) / "robots_physics";
+  const auto robots = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {dir}, models());
+  const fs::path file = dir / "physics" / "pendulum-arm.json";
+  CHECK(robots.physics_file("pendulum-arm") == file);
+  CHECK(robots.physics_file(file.string()) == file);
+  CHECK(*robots.find_physics("pendulum-arm") == file);
+  try {
+    robots.physics_file("no-such-arm");
+    FAIL("accepted");
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    CHECK(message.rfind("--physics: no-such-arm is no file, nor a shipped physics model (known: ",
+                        0) == 0);
+    CHECK(message.find("pendulum-arm") != std::string::npos);
+  }
+
+  app::BusConfig config =
+      app::parse_config(with_header(R"({"name":"arm","title":"t",)"
+                                    R"("sources":["https://x"],"notes":["n"]})"),
+                        "arm.json", models());
+  if (!physics::mujoco_available()) {
+    try {
+      app::attach_physics(config, file);
+      FAIL("accepted");
+    } catch (const ConfigError& e) {
+      CHECK(std::string(e.what()) == file.string() +
+                                         ": this build of dxlemu has no MuJoCo, so it cannot "
+                                         "simulate physics (rebuild with Debian's libmujoco-dev "
+                                         "installed and -DDXLEMU_MUJOCO=ON, docs/physics.md)");
+    }
+    return;
+  }
+  app::BusConfig attached = config;
+  app::attach_physics(attached, file);
+  REQUIRE(attached.physics);
+  CHECK(attached.physics->mjcf ==
+        file.parent_path() / "../../../../docs/examples/physics/pendulum.xml");
+  CHECK(attached.physics->pointer.empty());
+  CHECK(attached.physics->joints ==
+        std::vector<app::JointConfig>{{"arm", 1, "shoulder", 1, 1, 180}});
+  // Errors name the physics file and pointers within it.
+  try {
+    app::attach_physics(config, dir / "physics" / "no-servo-2.json");
+    FAIL("accepted");
+  } catch (const ConfigError& e) {
+    CHECK(std::string(e.what()) == (dir / "physics" / "no-servo-2.json").string() +
+                                       ": /joints/0/id: port arm has no servo 2");
+  }
+  try {
+    app::attach_physics(attached, file);
+    FAIL("accepted");
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()) ==
+          "--physics: the config has a \"physics\" of its own (" + file.string() + ")");
   }
 }

@@ -18,6 +18,7 @@ class EmptyTarget : public control::Target {
   std::vector<std::string> port_names() const override { return {}; }
   control::PortView* port(std::string_view /*name*/) override { return nullptr; }
   json port_info(std::string_view /*port*/) const override { return json::object(); }
+  control::PhysicsView* physics() override { return nullptr; }
   sim::SimTime now() const override { return {}; }
   bool manual_clock() const override { return true; }
   void step_clock(sim::SimDuration /*d*/) override {}

@@ -24,19 +24,27 @@ class LogWorld : public physics::World {
   std::optional<std::size_t> find_joint(std::string_view name) const override {
     return name == "j" ? std::optional<std::size_t>(0) : std::nullopt;
   }
-  std::string joint_names() const override { return "j"; }
+  std::vector<std::string> joints() const override { return {"j"}; }
+  std::optional<std::size_t> find_body(std::string_view /*name*/) const override {
+    return std::nullopt;
+  }
+  std::vector<std::string> bodies() const override { return {}; }
   double timestep_s() const override { return dt_; }
   void add_armature(std::size_t /*joint*/, double /*kg_m2*/) override {}
   void set_torque(std::size_t /*joint*/, double torque_nm) override {
     torque_ = torque_nm;
     log_.push_back("torque " + std::to_string(static_cast<int>(torque_nm)));
   }
+  void set_external_torque(std::size_t /*joint*/, double /*torque_nm*/) override {}
+  void set_wrench(std::size_t /*body*/, const physics::Wrench& /*wrench*/) override {}
+  physics::Wrench wrench(std::size_t /*body*/) const override { return {}; }
   void step() override {
     velocity_ += torque_ * dt_;
     position_ += velocity_ * dt_;
     log_.emplace_back("step");
   }
   physics::JointState joint(std::size_t /*joint*/) const override { return {position_, velocity_}; }
+  physics::JointForces forces(std::size_t /*joint*/) const override { return {torque_, 0, 0, 0}; }
 
  private:
   std::vector<std::string>& log_;
