@@ -61,6 +61,7 @@
 #include "support/flags.hpp"
 #include "support/serial_port.hpp"
 #include "support/stats.hpp"
+#include "support/temp_dir.hpp"
 #include "support/xm430.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_decoder.hpp"
@@ -74,6 +75,7 @@ using std::chrono::microseconds;
 using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
 namespace bench = dxlemu::bench;
+using dxlemu::bench::fixed;
 namespace wire = dxlemu::wire;
 
 constexpr const char* kModel = "xm430-w350";
@@ -117,12 +119,6 @@ struct Options {
   int cpu = -1;
 };
 
-std::string fixed(double value, int decimals) {
-  std::array<char, 32> text{};
-  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
-  return text.data();
-}
-
 std::string ms(nanoseconds d) {
   return fixed(std::chrono::duration<double, std::milli>(d).count(), 1);
 }
@@ -131,28 +127,6 @@ std::string ms(nanoseconds d) {
 std::size_t status_size(std::size_t params) {
   return wire::encode_status({wire::Protocol::V2, 1, 0, std::vector<std::uint8_t>(params)}).size();
 }
-
-// A directory under /tmp for the config file and the links, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = "/tmp/dxlemu-scale-XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) {
-      bench::fail("mkdtemp");
-    }
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 // What a process used over an interval: run time to the ns, clock ticks, context switches.
 struct Usage {
@@ -374,7 +348,7 @@ ChainResult measure_chain(int fd, const Chain& chain, int count) {
 
 // The peak RSS of a dxlemu with one servo, just started: what the process costs before servos
 // and ports are added.
-long baseline_kib(const Options& options, const TempDir& dir) {
+long baseline_kib(const Options& options, const bench::TempDir& dir) {
   std::cerr << "scale: dxlemu with 1 servo (baseline memory)\n";
   const bench::Daemon one(options.dxlemu,
                           {"--servo", std::string(kModel) + ":1", "--baud", std::to_string(kBaud),
@@ -382,7 +356,7 @@ long baseline_kib(const Options& options, const TempDir& dir) {
   return bench::peak_rss_kib(one.pid());
 }
 
-void one_bus(const Options& options, const TempDir& dir, long base_kib) {
+void one_bus(const Options& options, const bench::TempDir& dir, long base_kib) {
   using bench::us;
   const std::string link = (dir.path() / "bus").string();
   const std::string servos = std::string(kModel) + ":0-" + std::to_string(kBusServos - 1);
@@ -441,7 +415,7 @@ void one_bus(const Options& options, const TempDir& dir, long base_kib) {
 // ---------------------------------------------------------------------------------------------
 // 2. 32 ports in one process
 
-std::filesystem::path write_config(const TempDir& dir) {
+std::filesystem::path write_config(const bench::TempDir& dir) {
   nlohmann::json ports = nlohmann::json::array();
   std::vector<int> ids;
   for (int id = 1; id <= kServosPerPort; ++id) {
@@ -633,7 +607,7 @@ Interval idle(pid_t daemon, double seconds) {
   return {before, usage(daemon)};
 }
 
-void many_ports(const Options& options, const TempDir& dir, long base_kib) {
+void many_ports(const Options& options, const bench::TempDir& dir, long base_kib) {
   const std::filesystem::path config = write_config(dir);
   std::cerr << "scale: dxlemu with " << kPorts << " ports of " << int{kServosPerPort}
             << " servos\n";
@@ -712,7 +686,7 @@ Options parse(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   return bench::bench_main("scale", argc, argv, parse, [](const Options& options) {
-    const TempDir dir;
+    const bench::TempDir dir("dxlemu-scale");
     const long base_kib = baseline_kib(options, dir);
     one_bus(options, dir, base_kib);
     many_ports(options, dir, base_kib);

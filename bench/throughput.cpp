@@ -68,6 +68,7 @@ namespace {
 
 namespace bench = dxlemu::bench;
 using bench::Clock;
+using dxlemu::bench::fixed;
 using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
 
@@ -333,12 +334,6 @@ Run measure(const Target& target, const Options& options, const Paths& paths) {
     run.side = static_cast<double>(side_done) / wall;
   }
   return run;
-}
-
-std::string fixed(double value, int decimals) {
-  std::vector<char> text(64);
-  std::snprintf(text.data(), text.size(), "%.*f", decimals, value);
-  return text.data();
 }
 
 // The side column: what the side load did, with its unit.

@@ -13,6 +13,9 @@ std::chrono::nanoseconds percentile(const std::vector<std::chrono::nanoseconds>&
 /// `d` in microseconds with one decimal ("12.3").
 std::string us(std::chrono::nanoseconds d);
 
+/// `value` with `decimals` digits after the point ("3.14").
+std::string fixed(double value, int decimals);
+
 /// The median of `values` (not empty): the middle value, or the mean of the two middle ones.
 double median(std::vector<double> values);
 
