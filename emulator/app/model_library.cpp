@@ -211,8 +211,9 @@ bool ModelFilter::matches(const model::ModelSpec& spec) const {
          lowercase(spec.title).find(fragment) != std::string::npos;
 }
 
-fs::path shipped_models_dir() {
-  if (const char* dir = std::getenv("DXLEMU_MODELS_DIR"); dir != nullptr && *dir != '\0') {
+fs::path shipped_data_dir(const char* env, const fs::path& bindir_relative, const fs::path& marker,
+                          const fs::path& source) {
+  if (const char* dir = std::getenv(env); dir != nullptr && *dir != '\0') {
     return dir;
   }
   // Why relative to the executable rather than an absolute path fixed at build time: the same
@@ -221,13 +222,18 @@ fs::path shipped_models_dir() {
   std::error_code error;
   const fs::path exe = fs::read_symlink("/proc/self/exe", error);
   if (!error) {
-    fs::path installed = (exe.parent_path() / DXLEMU_BINDIR_TO_MODELSDIR).lexically_normal();
-    if (fs::is_regular_file(installed / "catalog.json", error)) {
+    fs::path installed = (exe.parent_path() / bindir_relative).lexically_normal();
+    if (fs::exists(marker.empty() ? installed : installed / marker, error)) {
       return installed;
     }
   }
   // No installed copy beside the binary: it runs from the build tree, next to its sources.
-  return DXLEMU_SOURCE_MODELS_DIR;
+  return source;
+}
+
+fs::path shipped_models_dir() {
+  return shipped_data_dir("DXLEMU_MODELS_DIR", DXLEMU_BINDIR_TO_MODELSDIR, "catalog.json",
+                          DXLEMU_SOURCE_MODELS_DIR);
 }
 
 }  // namespace dxlemu::app

@@ -65,6 +65,15 @@ class ModelLibrary {
   std::map<std::string, std::shared_ptr<const model::ModelSpec>> variants_;
 };
 
+/// A directory of shipped data, the first of: $`env` when set and not empty; `bindir_relative`
+/// from the running executable's directory (/proc/self/exe), the install layout's path, when
+/// `marker` exists in it ("" : when it exists); else `source`, the source tree's copy this binary
+/// was built from (a build-tree binary).
+std::filesystem::path shipped_data_dir(const char* env,
+                                       const std::filesystem::path& bindir_relative,
+                                       const std::filesystem::path& marker,
+                                       const std::filesystem::path& source);
+
 /// The directory of the shipped models, the first of: $DXLEMU_MODELS_DIR when set and not empty;
 /// the installed library, found from the running executable's directory (/proc/self/exe) by the
 /// install layout's relative path (`../share/dxlemu/models` by default), when it holds a

@@ -135,19 +135,8 @@ BusConfig robot_bus(const RobotLibrary& robots, const std::string& name,
 }
 
 fs::path shipped_robots_dir() {
-  if (const char* dir = std::getenv("DXLEMU_ROBOTS_DIR"); dir != nullptr && *dir != '\0') {
-    return dir;
-  }
-  // As shipped_models_dir(): relative to the executable, so that any install prefix works.
-  std::error_code error;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
-  if (!error) {
-    fs::path installed = (exe.parent_path() / DXLEMU_BINDIR_TO_ROBOTSDIR).lexically_normal();
-    if (fs::is_directory(installed, error)) {
-      return installed;
-    }
-  }
-  return DXLEMU_SOURCE_ROBOTS_DIR;
+  return shipped_data_dir("DXLEMU_ROBOTS_DIR", DXLEMU_BINDIR_TO_ROBOTSDIR, "",
+                          DXLEMU_SOURCE_ROBOTS_DIR);
 }
 
 }  // namespace dxlemu::app
