@@ -17,7 +17,7 @@
 // "Real time" holds when the world lag stays under the daemon's 10 ms catch-up period: every
 // tick of the world ran on time. Markdown to stdout, progress to stderr.
 //
-// Usage: physics_arm --dxlemu PATH [--robot NAME] [--physics NAME] [--seconds D] [--rounds R]
+// Usage: physics_daemon --dxlemu PATH [--robot NAME] [--physics NAME] [--seconds D] [--rounds R]
 //                    [--swing PULSES] [--cpu N]
 #include <algorithm>
 #include <chrono>
@@ -48,7 +48,7 @@ using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
 
 constexpr const char* kUsage =
-    "usage: physics_arm --dxlemu PATH [--robot NAME] [--physics NAME] [--seconds D] "
+    "usage: physics_daemon --dxlemu PATH [--robot NAME] [--physics NAME] [--seconds D] "
     "[--rounds R] [--swing PULSES] [--cpu N]";
 constexpr milliseconds kReadPeriod{10};
 constexpr milliseconds kGoalPeriod{1000};
@@ -228,7 +228,7 @@ void report(const Options& options, const std::vector<Run>& with, const std::vec
 }  // namespace
 
 int main(int argc, char** argv) {
-  return bench::bench_main("physics_arm", argc, argv, parse, [](const Options& options) {
+  return bench::bench_main("physics_daemon", argc, argv, parse, [](const Options& options) {
     const bench::TempDir dir("dxlemu-physics");
     std::vector<Run> with;
     std::vector<Run> without;
