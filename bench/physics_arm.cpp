@@ -11,7 +11,7 @@
 // bench's thread per simulated second and over its wall time (CLOCK_THREAD_CPUTIME_ID: near
 // 100 % unless the machine is busy, when the CPU figures are the ones to read); then the median
 // ratios physics / no physics of wall and CPU time.
-// The daemon under a real client is measured by bench/physics_daemon.py.
+// The daemon under a controller is measured by bench/physics_daemon.
 //
 // Usage: physics_arm [--seconds S] [--rounds R] [--cpu N]
 #include <time.h>
