@@ -37,15 +37,20 @@ class PhysicsTest(unittest.TestCase):
         with open(self.config, "w") as f:
             json.dump(config, f)
 
-    @unittest.skipUnless(HAVE_MUJOCO, "this build has no MuJoCo")
-    def test_the_pendulum_falls_onto_its_stop_and_the_servo_lifts_and_holds_it(self):
-        daemon = Daemon("--config", self.config, "--timing", "manual",
+    def serve(self, *args: str) -> tuple[Control, Port]:
+        """The daemon serving `args` under manual timing, its control connection and its PTY."""
+        daemon = Daemon(*args, "--timing", "manual",
                         "--control", os.path.join(self.dir.name, "control.sock"))
         self.addCleanup(daemon.stop)
         control = Control(daemon.ready["control"])
         self.addCleanup(control.close)
         port = Port(self.link)
         self.addCleanup(port.close)
+        return control, port
+
+    @unittest.skipUnless(HAVE_MUJOCO, "this build has no MuJoCo")
+    def test_the_pendulum_falls_onto_its_stop_and_the_servo_lifts_and_holds_it(self):
+        control, port = self.serve("--config", self.config)
 
         def read(address: int, size: int) -> int:
             port.write(packet2(1, READ, bytes([address, 0, size, 0])))
@@ -79,14 +84,8 @@ class PhysicsTest(unittest.TestCase):
 
     @unittest.skipUnless(HAVE_MUJOCO, "this build has no MuJoCo")
     def test_a_physics_file_attached_to_servos_and_a_push_through_the_control_api(self):
-        daemon = Daemon("--servo", "xm430-w350:1", "--link", self.link,
-                        "--physics", self.physics_file(), "--timing", "manual",
-                        "--control", os.path.join(self.dir.name, "control.sock"))
-        self.addCleanup(daemon.stop)
-        control = Control(daemon.ready["control"])
-        self.addCleanup(control.close)
-        port = Port(self.link)
-        self.addCleanup(port.close)
+        control, port = self.serve("--servo", "xm430-w350:1", "--link", self.link,
+                                   "--physics", self.physics_file())
 
         def position() -> int:
             port.write(packet2(1, READ, bytes([PRESENT_POSITION, 0, 4, 0])))

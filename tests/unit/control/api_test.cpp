@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "api_requests.hpp"
 #include "bus/bus.hpp"
 #include "bus/bus_rig.hpp"
 #include "bus/loopback_link.hpp"
@@ -28,7 +29,7 @@ namespace {
 using FakeTarget = test::PortsTarget;
 
 /// dxl0: two XM430-W350 (IDs 1 and 2); dxl1: one AX-12A (ID 3).
-struct Rig {
+struct Rig : test::ApiRequests<Rig> {
   FakeTarget target;
   FakeTarget::Port& dxl0 = target.add_port("dxl0");
   FakeTarget::Port& dxl1 = target.add_port("dxl1");
@@ -36,23 +37,6 @@ struct Rig {
   model::Servo& xm2 = target.add(dxl0, "xm430-w350", 2);
   model::Servo& ax3 = target.add(dxl1, "ax-12a", 3);
   control::Api api{target};
-
-  /// The whole reply to `line`, parsed.
-  json reply(const std::string& line) { return json::parse(api.handle(line)); }
-  /// The result of a request that must succeed.
-  json result(const std::string& line) {
-    const json r = reply(line);
-    INFO(line << " -> " << r.dump());
-    REQUIRE(r["ok"] == true);
-    return r["result"];
-  }
-  /// The error text of a request that must fail.
-  std::string error(const std::string& line) {
-    const json r = reply(line);
-    INFO(line << " -> " << r.dump());
-    REQUIRE(r["ok"] == false);
-    return r["error"].get<std::string>();
-  }
 };
 
 }  // namespace

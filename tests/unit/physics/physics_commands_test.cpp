@@ -11,6 +11,7 @@
 #include <numbers>
 #include <string>
 
+#include "api_requests.hpp"
 #include "control/api.hpp"
 #include "physics/mjcf_world.hpp"
 #include "ports_target.hpp"
@@ -28,7 +29,7 @@ constexpr double kMgl = 0.5 * 9.81 * 0.1;
 constexpr std::int64_t kLevel = 2048;  // Present Position with the link level
 constexpr double kPulsesPerRad = 4096 / (2 * std::numbers::pi);
 
-struct Rig {
+struct Rig : test::ApiRequests<Rig> {
   // Outlives the servo coupled to it.
   std::unique_ptr<physics::WorldClock> clock = std::make_unique<physics::WorldClock>(
       physics::load_mjcf_world(kPendulum, 0.001), milliseconds(1));
@@ -46,19 +47,6 @@ struct Rig {
     target.world = &view;
   }
 
-  json reply(const std::string& line) { return json::parse(api.handle(line)); }
-  json result(const std::string& line) {
-    const json r = reply(line);
-    INFO(line << " -> " << r.dump());
-    REQUIRE(r["ok"] == true);
-    return r["result"];
-  }
-  std::string error(const std::string& line) {
-    const json r = reply(line);
-    INFO(line << " -> " << r.dump());
-    REQUIRE(r["ok"] == false);
-    return r["error"].get<std::string>();
-  }
   void wait_ms(int ms) { result(R"({"cmd":"clock.step","ms":)" + std::to_string(ms) + "}"); }
   std::int64_t present_position() {
     servo.advance_to(target.now());
