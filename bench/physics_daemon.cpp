@@ -90,7 +90,7 @@ class Control {
   json call(const json& request) {
     const json reply =
         json::parse(connection_.call(request.dump(), Clock::now() + kControlTimeout));
-    if (reply.value("ok", false) != true) {
+    if (!reply.value("ok", false)) {
       throw std::runtime_error(request.dump() + " -> " + reply.dump());
     }
     return reply["result"];
@@ -163,7 +163,7 @@ Run measure(const Options& options, bool physics, const bench::TempDir& dir) {
                       {"port", port},
                       {"servo", id},
                       {"item", "goal_position"},
-                      {"value", home[id] + sign * options.swing}});
+                      {"value", home[id] + static_cast<std::int64_t>(sign) * options.swing}});
       }
       sign = -sign;
       next_goal += kGoalPeriod;
