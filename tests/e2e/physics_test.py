@@ -113,32 +113,32 @@ class PhysicsTest(unittest.TestCase):
             json.dump({"ports": [{"name": "dxl0", "servos": [{"model": "xm430-w350", "id": 1}]}]},
                       f)
         physics = self.physics_file()
-        result = subprocess.run(dxlemu_command("check", plain, "--physics", physics),
-                                capture_output=True, text=True, timeout=30)
-        if HAVE_MUJOCO:
-            self.assertEqual(result.returncode, 0, result.stderr)
-            self.assertIn("physics: " + str(EXAMPLES / "pendulum.xml") + ", 1 joint",
-                          result.stdout)
-        else:
-            self.assertEqual(result.returncode, 2)
-            self.assertIn(physics + ": this build of dxlemu has no MuJoCo", result.stderr)
-        # A config with physics of its own refuses another.
+        self.check_world(["--physics", physics, plain],
+                         physics + ": this build of dxlemu has no MuJoCo")
+        # A config with physics of its own refuses another (without MuJoCo, its own already).
         result = subprocess.run(dxlemu_command("check", self.config, "--physics", physics),
                                 capture_output=True, text=True, timeout=30)
         self.assertEqual(result.returncode, 2)
-        self.assertIn("physics", result.stderr)
+        self.assertIn("--physics: the config has a \"physics\" of its own" if HAVE_MUJOCO
+                      else self.config + ": /physics: this build of dxlemu has no MuJoCo",
+                      result.stderr)
 
     def test_check_loads_the_world_or_refuses_it_without_mujoco(self):
-        result = subprocess.run(dxlemu_command("check", self.config), capture_output=True,
-                                text=True, timeout=30)
+        self.check_world([self.config],
+                         self.config + ": /physics: this build of dxlemu has no MuJoCo")
+
+    def check_world(self, args: list[str], refusal: str) -> None:
+        """`dxlemu check ARGS` loads the pendulum's world, or (without MuJoCo) refuses with
+        `refusal`."""
+        result = subprocess.run(dxlemu_command("check", *args), capture_output=True, text=True,
+                                timeout=30)
         if HAVE_MUJOCO:
             self.assertEqual(result.returncode, 0, result.stderr)
             self.assertIn("physics: " + str(EXAMPLES / "pendulum.xml") + ", 1 joint",
                           result.stdout)
         else:
             self.assertEqual(result.returncode, 2)
-            self.assertIn(self.config + ": /physics: this build of dxlemu has no MuJoCo",
-                          result.stderr)
+            self.assertIn(refusal, result.stderr)
 
 
 if __name__ == "__main__":
