@@ -235,8 +235,6 @@ dxlemu::app::PortConfig port_of_options(const dxlemu::app::CommandLine& line) {
   return port;
 }
 
-// dxlemu run: serves until SIGINT, SIGTERM or the control API's shutdown. `link_given`: whether
-// --link was on the command line (it has a default).
 // --physics: the physics file it names, attached to `config`.
 void attach_physics_option(dxlemu::app::BusConfig& config, const dxlemu::app::CommandLine& line,
                            const dxlemu::app::ModelLibrary& library) {
@@ -246,6 +244,8 @@ void attach_physics_option(dxlemu::app::BusConfig& config, const dxlemu::app::Co
   }
 }
 
+// dxlemu run: serves until SIGINT, SIGTERM or the control API's shutdown. `link_given`: whether
+// --link was on the command line (it has a default).
 void serve(const dxlemu::app::CommandLine& line, bool link_given) {
   dxlemu::app::set_log_level(*dxlemu::app::parse_log_level(line.log_level));
   dxlemu::app::RunOptions options = line.options;
