@@ -165,7 +165,7 @@ TEST_CASE("A profile of several ports refuses --link, naming them", "[app][robot
   }
 }
 
-TEST_CASE("--physics names a file or a physics file beside the profiles, and attaches it",
+TEST_CASE("A physics file is named by its path or by its name beside the profiles, and attached",
           "[app][robots][physics]") {
   const fs::path dir = fs::path(DXLEMU_TEST_DATA_DIR) / "robots_physics";
   const auto robots = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {dir}, models());
