@@ -114,7 +114,7 @@ class PhysicsTest(unittest.TestCase):
                       f)
         physics = self.physics_file()
         self.check_world(["--physics", physics, plain],
-                         physics + ": this build of dxlemu has no MuJoCo")
+                         physics + ": /: this build of dxlemu has no MuJoCo")
         # A config with physics of its own refuses another (without MuJoCo, its own already).
         result = subprocess.run(dxlemu_command("check", self.config, "--physics", physics),
                                 capture_output=True, text=True, timeout=30)

@@ -192,8 +192,9 @@ TEST_CASE("A physics file is named by its path or by its name beside the profile
       app::attach_physics(config, file);
       FAIL("accepted");
     } catch (const ConfigError& e) {
+      // The whole file is what is refused: pointer "", which errors print as "/".
       CHECK(std::string(e.what()) == file.string() +
-                                         ": this build of dxlemu has no MuJoCo, so it cannot "
+                                         ": /: this build of dxlemu has no MuJoCo, so it cannot "
                                          "simulate physics (rebuild with Debian's libmujoco-dev "
                                          "installed and -DDXLEMU_MUJOCO=ON, docs/physics.md)");
     }
