@@ -1,20 +1,20 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every check. CI (.ci/run) runs exactly this.
 #   1. formatting of every C++ file (clang-format, the repository's .clang-format);
-#   2. build/: g++, Release (what users and packagers build), warnings as errors. The unit tests,
-#      the command-line, model and docs checks, and the tests that need a plain build;
-#   3. clang-tidy over our sources (build/'s compile database);
-#   4. build/san: clang++, AddressSanitizer + UndefinedBehaviorSanitizer, libFuzzer's coverage
-#      instrumentation where the fuzz targets need it, -O1, warnings as errors. The whole suite
-#      again, the end-to-end suites (e2e, Python package, examples, reliability) included, and
-#      every fuzz target's smoke run.
+#   2. build/test: g++, Release (what users and packagers build), warnings as errors, MuJoCo. The
+#      checks of the checkout itself (label source) and what runs in a plain build only (label
+#      plain_build: the MuJoCo tests, flat resident memory, the .deb);
+#   3. build/san: clang++, AddressSanitizer + UndefinedBehaviorSanitizer, libFuzzer's coverage
+#      instrumentation where the fuzz targets need it, -O1, warnings as errors;
+#   4. clang-tidy over our sources (build/san's compile database, build/test's for MuJoCo);
+#   5. build/san's tests: the unit tests, the command-line tests, every end-to-end suite (e2e,
+#      Python package, examples, reliability) and every fuzz target's smoke run.
+# Every test runs once. scripts/run.sh builds build/, which this leaves alone.
 # A tool that is missing fails its step, naming the Debian package; nothing is skipped.
 # Exits non-zero on the first failure and prints each step's time (docs/testing.md).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$repo_root"
-
-bash scripts/setup.sh
 
 steps=()
 # step NAME: starts timing a step; the previous one ends.
@@ -26,6 +26,9 @@ step() {
   step_start=$SECONDS
   echo "== $1"
 }
+
+step "setup"
+bash scripts/setup.sh
 
 # Runs ctest in a build directory and adds its test count to the total printed at the end.
 total=0
@@ -40,42 +43,44 @@ run_ctest() {
 step "format"
 bash scripts/check_format.sh
 
-# End-to-end suites (label end_to_end: every test that starts a daemon) run once, in the sanitizer
-# build, except those labelled plain_build, which a sanitizer build cannot serve: the two that
-# require the daemon's resident memory to stay flat (ASan's quarantine of freed memory and its
-# shadow memory make it grow by design) and the .deb (it packs the binary, no dxlemu code runs).
+# The plain build runs the tests labelled source (they read the checkout, not the build: models,
+# docs, layering) and plain_build: the MuJoCo tests (unit and e2e.physics; the sanitizer build is
+# built without MuJoCo, which checks that dxlemu builds, runs and refuses physics configs without
+# it, and keeps an uninstrumented library out of the sanitizer runs), the two reliability tests
+# that require the daemon's resident memory to stay flat (ASan's quarantine of freed memory and
+# its shadow memory make it grow by design), and those that run no dxlemu code of their own (the
+# .deb, README against --help). The other unit tests are not built here: they run under the
+# sanitizers.
 # DXLEMU_CHECK_EXIT: a daemon that did not exit with status 0 (a crash at shutdown, a stop that
 # timed out, a sanitizer report) fails the test that started it.
-# The Release build has MuJoCo (scripts/setup.sh installs it) and runs the physics tests; the
-# sanitizer build is built without it, which checks that dxlemu builds, runs and refuses physics
-# configs without MuJoCo (docs/physics.md), and keeps an uninstrumented MuJoCo out of it.
-step "build/: g++ Release"
-configure_and_build build -DCMAKE_BUILD_TYPE=Release -DDXLEMU_WERROR=ON -DDXLEMU_MUJOCO=ON
-step "build/: tests"
-DXLEMU_CHECK_EXIT=1 run_ctest build -LE end_to_end
-DXLEMU_CHECK_EXIT=1 run_ctest build -L end_to_end -L plain_build
-
-step "clang-tidy"
-bash scripts/tidy.sh build
+step "build/test: g++ Release"
+configure_and_build build/test -DCMAKE_BUILD_TYPE=Release -DDXLEMU_WERROR=ON -DDXLEMU_MUJOCO=ON \
+  -DDXLEMU_BUILD_UNIT_TESTS=OFF
+step "build/test: tests"
+DXLEMU_CHECK_EXIT=1 run_ctest build/test -L 'source|plain_build'
 
 # One clang build serves the sanitizer suite and the fuzz smoke runs: everything is compiled with
 # -fsanitize=address,undefined, what the fuzz targets link also with libFuzzer's instrumentation
 # (fuzzer-no-link); the fuzz targets alone link libFuzzer's main. -O1 keeps the suite fast, line
 # tables keep the reports' stacks exact; the unit tests' own sources, half of the compile time,
 # build at -O0 (DXLEMU_UNIT_TEST_OPTIONS).
-# Every report aborts the process that made it (a leak at exit too), so a test fails on it: the
-# unit tests and the app.* checks by their exit status, and a daemon started by the end-to-end
-# tests through DXLEMU_CHECK_EXIT. DXLEMU_TIMEOUT_SCALE makes the daemon's start and stop
-# timeouts, and e2e.sdk_client's bound on 100 fast-timing round trips, twice as long.
 step "build/san: clang++ ASan + UBSan + fuzzer instrumentation"
 require_tool clang++ clang "the sanitizer and fuzz build"
 configure_and_build build/san -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
   "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" -DDXLEMU_UNIT_TEST_OPTIONS=-O0 \
   -DDXLEMU_SANITIZE=ON -DDXLEMU_FUZZ=ON -DDXLEMU_WERROR=ON -DDXLEMU_MUJOCO=OFF
+
+step "clang-tidy"
+bash scripts/tidy.sh build/san build/test
+
+# Every report aborts the process that made it (a leak at exit too), so a test fails on it: the
+# unit tests and the app.* checks by their exit status, and a daemon started by the end-to-end
+# tests through DXLEMU_CHECK_EXIT. DXLEMU_TIMEOUT_SCALE makes the daemon's start and stop
+# timeouts, and e2e.sdk_client's bound on 100 fast-timing round trips, twice as long.
 step "build/san: tests and fuzz smoke runs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   DXLEMU_CHECK_EXIT=1 DXLEMU_TIMEOUT_SCALE=2 \
-  run_ctest build/san -LE plain_build
+  run_ctest build/san -LE 'source|plain_build'
 step "done"
 
 echo "== all tests passed"
