@@ -3,7 +3,9 @@ controller library does to its port and prints what happened as one JSON line on
 
   flood PATH COUNT tcflush|ioctl   COUNT Sync Writes, each after an output flush as pyserial's
                                    flushOutput() does (termios.tcflush, or ioctl(TCFLSH)), then
-                                   a Ping of ID 1 whose reply shows that every byte was read
+                                   a Ping of ID 1 whose reply shows that every byte was read;
+                                   a first line {"written": BYTES} once everything is written,
+                                   before it waits for the reply
   serial PATH                      DynamixelSDK's and pyserial's low-latency open (TIOCGSERIAL,
                                    ASYNC_LOW_LATENCY, TIOCSSERIAL, read back), modem lines, RS-485
   foreign                          the same requests, and output flushes (and none, to compare),
@@ -36,14 +38,20 @@ RS485_BYTES = 32  # struct serial_rs485
 
 def flood(path: str, count: int, mode: str) -> dict:
     port = Port(path)
+    written = 0
     for i in range(count):
         if mode == "tcflush":
             termios.tcflush(port.fd, termios.TCOFLUSH)
         else:
             fcntl.ioctl(port.fd, termios.TCFLSH, termios.TCOFLUSH)
         params = struct.pack("<HH", LED, 1) + bytes([1, i & 1, 2, i & 1, 3, i & 1])
-        port.write(packet2(0xFE, SYNC_WRITE, params))
-    port.write(packet2(1, PING))
+        packet = packet2(0xFE, SYNC_WRITE, params)
+        port.write(packet)
+        written += len(packet)
+    ping = packet2(1, PING)
+    port.write(ping)
+    # The test may hold the daemon stopped until everything is written: it waits for this line.
+    print(json.dumps({"written": written + len(ping)}), flush=True)
     status = port.status2(timeout=10)
     port.close()
     return {"sent": count, "ping_answered": status is not None}
