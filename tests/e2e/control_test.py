@@ -9,7 +9,8 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, dxlemu_command, heard, packet2, timeout_scale
+from dxl_client import (Control, Daemon, Port, assert_unanswered, dxlemu_command, heard, packet2,
+                        timeout_scale)
 
 PING, READ = 0x01, 0x02
 PING_BYTES = len(packet2(1, PING))
@@ -54,7 +55,8 @@ class ControlTest(unittest.TestCase):
         self.assertEqual(stat.S_IMODE(mode), 0o600)
 
     def test_a_value_set_through_the_api_is_what_the_bus_reads(self):
-        _, control = self.start()
+        # Manual timing: the temperature set stays until the bus reads it (no tick cools it).
+        _, control = self.start("--timing", "manual")
         listing = control.call("list")
         self.assertEqual([s["id"] for s in listing["ports"][0]["servos"]], [1, 2, 3])
         control.call("set", port="dxl0", servo=2, item="present_temperature", value=70)
@@ -150,14 +152,13 @@ class ControlTest(unittest.TestCase):
 
 
     def test_a_fault_rule_drops_replies_until_it_is_removed(self):
-        daemon, control = self.start("--timing", "fast", "--seed", "7")
+        daemon, control = self.start("--timing", "manual", "--seed", "7")
         self.assertEqual(daemon.ready["seed"], 7)
         rule = control.call("fault.add", rule={"action": "drop_reply",
                                                "match": {"port": "dxl0", "servos": [3]}})
         self.assertEqual(rule, {"rule": 1})
         port = Port(self.link)
-        port.write(packet2(3, PING))
-        self.assertIsNone(port.status2(timeout=0.3))
+        assert_unanswered(control, port, packet2(3, PING))
         port.write(packet2(2, PING))
         self.assertEqual(port.status2()[:2], (2, 0))
         listed = control.call("fault.list")
@@ -169,7 +170,7 @@ class ControlTest(unittest.TestCase):
         port.close()
 
     def test_trace_events_reach_the_subscribed_connection_only(self):
-        _, control = self.start("--timing", "fast")
+        _, control = self.start("--timing", "manual")
         other = Control(self.socket)
         self.addCleanup(other.close)
         self.assertEqual(control.call("trace.subscribe", port="dxl0"), {"ports": ["dxl0"]})
