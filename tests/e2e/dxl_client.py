@@ -87,6 +87,7 @@ def assert_unanswered(control: Control, port: Port, packet: bytes, port_name: st
     after = heard(control, before["bytes_in"] + len(packet), port_name)
     arrived = port.read(1, timeout=0.05)
     if after["replies"] != before["replies"] or arrived:
-        raise AssertionError(f"{packet.hex(' ')} was answered ({after['replies'] - before['replies']} "
-                             f"replies counted, {arrived.hex(' ') or 'nothing'} arrived)")
+        replies = after["replies"] - before["replies"]
+        raise AssertionError(f"{packet.hex(' ')} was answered ({replies} replies counted, "
+                             f"{arrived.hex(' ') or 'nothing'} arrived)")
     return after
