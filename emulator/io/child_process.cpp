@@ -51,18 +51,26 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
   return out;
 }
 
-// Spawns with the passed-on signals at their defaults in the child, whatever this process does
-// with them meanwhile.
-int spawn(pid_t& pid, std::vector<std::string> arguments, std::vector<std::string> environment) {
+// The signals passed on to the child, as a set.
+sigset_t passed_on() {
+  sigset_t set;
+  sigemptyset(&set);
+  for (const int signal : kPassedOn) {
+    sigaddset(&set, signal);
+  }
+  return set;
+}
+
+// Spawns with the passed-on signals at their defaults in the child and `mask` as its signal
+// mask, whatever this process does with them meanwhile.
+int spawn(pid_t& pid, std::vector<std::string> arguments, std::vector<std::string> environment,
+          const sigset_t& mask) {
   posix_spawnattr_t attributes;
   posix_spawnattr_init(&attributes);
-  sigset_t defaults;
-  sigemptyset(&defaults);
-  for (const int signal : kPassedOn) {
-    sigaddset(&defaults, signal);
-  }
+  const sigset_t defaults = passed_on();
   posix_spawnattr_setsigdefault(&attributes, &defaults);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setsigmask(&attributes, &mask);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
   auto argv = pointers(arguments);
   auto envp = pointers(environment);
   const int error = ::posix_spawnp(&pid, argv[0], nullptr, &attributes, argv.data(), envp.data());
@@ -78,19 +86,26 @@ int run_child(const std::vector<std::string>& command,
   action.sa_sigaction = pass_on;
   action.sa_flags = SA_SIGINFO | SA_RESTART;
   sigemptyset(&action.sa_mask);
-  // Installed before the spawn so that no signal between the two is lost; child_pid is 0 until
-  // the child exists.
+  // Installed, and blocked, before the spawn: the child may run (and be seen running) before
+  // child_pid is set, and a signal sent then must wait for child_pid rather than be dropped. The
+  // child starts with the mask this process had.
+  const sigset_t blocked = passed_on();
+  sigset_t mask;
+  ::sigprocmask(SIG_BLOCK, &blocked, &mask);
   for (const int signal : kPassedOn) {
     ::sigaction(signal, &action, nullptr);
   }
   pid_t pid = 0;
-  const int error = spawn(pid, command, environment_with(environment));
+  const int error = spawn(pid, command, environment_with(environment), mask);
+  if (error == 0) {
+    child_pid = pid;
+  }
+  ::sigprocmask(SIG_SETMASK, &mask, nullptr);
   if (error != 0) {
     std::cerr << "dxlemu exec: cannot run " << command.front() << ": " << std::strerror(error)
               << "\n";
     return error == ENOENT ? kExitNotFound : kExitCannotExecute;
   }
-  child_pid = pid;
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) {

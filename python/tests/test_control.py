@@ -3,6 +3,10 @@ import pytest
 
 from dxlemu import ControlError
 
+# Manual timing: replies go out at once and are never dropped as late on a loaded machine, and
+# nothing moves or cools unless a test steps the clock. (The fixture's default is fast timing.)
+pytestmark = pytest.mark.dxlemu(timing="manual")
+
 
 def test_get_and_set_an_item_and_raw_bytes(dxlemu):
     control = dxlemu.control
@@ -27,7 +31,6 @@ def test_conditions_and_plugging(dxlemu):
     assert control.power_cycle(1) == {"attached": True, "booting": True}
 
 
-@pytest.mark.dxlemu(timing="manual")
 def test_the_clock_is_stepped_in_manual_timing(dxlemu):
     assert dxlemu.control.clock_now() == 0
     assert dxlemu.control.clock_step(ms=250) == 250_000_000

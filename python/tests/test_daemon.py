@@ -27,7 +27,7 @@ def test_the_marker_passes_servos_and_timing(dxlemu):
 
 
 def test_stop_shuts_down_cleanly_and_removes_link_socket_and_directory():
-    emulator = Emulator(timing="fast")
+    emulator = Emulator(timing="manual")
     link, directory = emulator.link, emulator.directory
     assert emulator.stop() == 0
     assert not os.path.lexists(link) and not os.path.exists(directory)
@@ -36,7 +36,7 @@ def test_stop_shuts_down_cleanly_and_removes_link_socket_and_directory():
 
 
 def test_the_context_manager_stops_the_daemon():
-    with Emulator(timing="fast") as emulator:
+    with Emulator(timing="manual") as emulator:
         process = emulator.process
     assert not process.running and process.proc.returncode == 0
 
@@ -56,7 +56,7 @@ def test_a_config_with_two_ports_is_ready_once_both_are(tmp_path):
          "servos": [{"model": "xm430-w350", "id": 1}]},
         {"name": "legs", "link": str(tmp_path / "legs"),
          "servos": [{"model": "ax-12a", "id": 7}]}]}))
-    with Emulator(config=config, timing="fast") as emulator:
+    with Emulator(config=config, timing="manual") as emulator:
         assert list(emulator.ports) == ["arm", "legs"]
         assert emulator.port("legs").link == str(tmp_path / "legs")
         with emulator.client("legs", baud=1000000, protocol=1) as legs:

@@ -7,6 +7,10 @@ from dxlemu.protocol import READ, CommTimeout
 
 PRESENT_POSITION = 132
 
+# Manual timing: replies go out at once and are never dropped as late on a loaded machine, and
+# nothing moves or cools unless a test steps the clock. (The fixture's default is fast timing.)
+pytestmark = pytest.mark.dxlemu(timing="manual")
+
 
 @pytest.fixture
 def control(dxlemu):

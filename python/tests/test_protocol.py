@@ -6,6 +6,11 @@ from dxlemu.protocol import ALERT, PING, packet2
 
 TORQUE_ENABLE, HARDWARE_ERROR_STATUS, GOAL_POSITION, PRESENT_POSITION = 64, 70, 116, 132
 XM430_W350 = 1020
+BOOT_NS = 400_000_000  # a servo's boot time after Reboot (docs/servo.md)
+
+# Manual timing: replies go out at once and are never dropped as late on a loaded machine, and
+# nothing moves or cools unless a test steps the clock. (The fixture's default is fast timing.)
+pytestmark = pytest.mark.dxlemu(timing="manual")
 
 
 def test_ping_read_write_and_sync_read(dxlemu):
@@ -31,6 +36,12 @@ def test_reboot_answers_then_the_servo_is_silent_while_it_boots(dxlemu):
         client.send(3, PING)
         with pytest.raises(CommTimeout):
             client.receive(3, timeout=0.1)
+        dxlemu.control.clock_step(ns=BOOT_NS - 1)
+        client.send(3, PING)
+        with pytest.raises(CommTimeout):
+            client.receive(3, timeout=0.1)
+        dxlemu.control.clock_step(ns=1)
+        assert client.ping(3).error == 0  # booted
 
 
 def test_the_alert_bit_follows_hardware_error_status(dxlemu):
@@ -46,7 +57,7 @@ def test_a_packet_with_a_bad_crc_gets_a_crc_error_status(dxlemu):
         assert client.receive(1).error == 0x03  # CRC Error
 
 
-@pytest.mark.dxlemu(servos=["ax-12a:5"])
+@pytest.mark.dxlemu(servos=["ax-12a:5"], timing="manual")
 def test_protocol_1(dxlemu):
     with dxlemu.client(baud=1000000, protocol=1) as client:
         assert client.ping(5) == (b"", 0)

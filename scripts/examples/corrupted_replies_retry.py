@@ -10,7 +10,8 @@ or set PYTHONPATH). The binary is $DXLEMU_BIN, else `dxlemu` on PATH, else the c
 
 The steps:
 1. dxlemu runs the default bus (three XM430-W350, IDs 1 ~ 3) with a fixed `--seed`, so the
-   same replies are corrupted on every run.
+   same replies are corrupted on every run, under `--timing manual`: replies go out at once
+   and none is dropped as late, however busy the machine, so every retry is the rule's doing.
 2. The script adds a rule with the control API:
    fault.add {"action": "corrupt_crc", "match": {"port": "dxl0"}, "probability": 0.05}.
 3. The controller reads Present Position 500 times, retrying a read whose reply has a bad
@@ -65,7 +66,7 @@ class Controller:
 
 
 def main() -> None:
-    with Emulator(timing="fast", seed=SEED) as emulator, emulator.client(timeout=1.0) as client:
+    with Emulator(timing="manual", seed=SEED) as emulator, emulator.client(timeout=1.0) as client:
         control = emulator.control
         rule = control.fault_add({"action": "corrupt_crc", "match": {"port": "dxl0"},
                                   "probability": PROBABILITY})

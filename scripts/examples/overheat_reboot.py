@@ -9,7 +9,11 @@ library and the dxlemu package (python/ of the dxlemu checkout: adjust the sys.p
 or set PYTHONPATH). The binary is $DXLEMU_BIN, else `dxlemu` on PATH, else the checkout's build.
 
 The steps:
-1. dxlemu runs the default bus (three XM430-W350, IDs 1 ~ 3, Protocol 2.0).
+1. dxlemu runs the default bus (three XM430-W350, IDs 1 ~ 3, Protocol 2.0) under
+   `--timing manual`: simulated time (the move, the servo's tick that detects the error, the
+   boot time) passes only when the script steps it, as the controller's `sleep`, so what the
+   controller sees does not depend on how busy the machine is, and replies are never dropped
+   as late.
 2. The controller turns torque on and sends servo 3 on a slow move, then polls every servo.
 3. While servo 3 moves, the script makes it overheat with the control API:
    fault.add {"action": "hardware_error", "kind": "overheating", "match": {"servos": [3]}}.
@@ -23,8 +27,8 @@ The steps:
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
+from typing import Callable
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))  # the dxlemu package
 
@@ -41,17 +45,22 @@ ALERT = 0x80
 SERVOS = (1, 2, 3)
 HOT_SERVO = 3
 SLOW = 20  # Profile Velocity, 0.229 rev/min units: about 300 pulses/s
-BOOT_TIMEOUT_S = 3.0  # servos are silent for about 0.4 s after Reboot
+BOOT_TIMEOUT_S = 3.0  # servos are silent for 0.4 s after Reboot
+BOOT_RETRY_S = 0.1  # between the controller's pings of a rebooting servo
 ALERT_TIMEOUT_S = 5.0
 STOP_TIMEOUT_S = 2.0
+POLL_S = 0.01  # between the controller's polls
 
 
 class Controller:
     """The controller under test, reduced to what matters here: it polls its servos, watches
     the alert bit, diagnoses and reboots a servo that reports a hardware error."""
 
-    def __init__(self, client: Client):
+    def __init__(self, client: Client, sleep: Callable[[float], None]):
         self.client = client
+        # How the controller lets time pass between tries: time.sleep against hardware, the
+        # emulator's clock.step here.
+        self.sleep = sleep
         self.alerts: dict[int, int] = {}  # servo -> Hardware Error Status seen with its alert
 
     def start(self, servo: int, goal: int) -> None:
@@ -76,30 +85,39 @@ class Controller:
         """Reboot, then ping until the servo has booted."""
         reply = self.client.reboot(servo)
         check(reply.error & 0x7F == 0, f"servo {servo}: Reboot refused: 0x{reply.error:02x}")
-        deadline = time.monotonic() + BOOT_TIMEOUT_S
+        waited = 0.0
         while True:
             try:
                 self.client.ping(servo)
                 break
             except CommError:
-                check(time.monotonic() < deadline, f"servo {servo} did not come back after Reboot")
+                check(waited < BOOT_TIMEOUT_S, f"servo {servo} did not come back after Reboot")
+                self.sleep(BOOT_RETRY_S)
+                waited += BOOT_RETRY_S
         self.alerts.pop(servo, None)
 
 
 def main() -> None:
-    with Emulator(timing="fast") as emulator, emulator.client(timeout=0.5) as client:
+    with Emulator(timing="manual") as emulator, emulator.client(timeout=0.5) as client:
         control = emulator.control
-        controller = Controller(client)
+
+        def sleep(seconds: float) -> None:
+            control.clock_step(ns=round(seconds * 1e9))
+
+        controller = Controller(client, sleep)
         controller.start(HOT_SERVO, goal=3048)
-        time.sleep(0.1)
+        sleep(0.1)
         check(client.read(HOT_SERVO, MOVING, 1).value == 1, "servo 3 should be moving")
 
         rule = control.fault_add({"action": "hardware_error", "kind": "overheating",
                                   "match": {"port": "dxl0", "servos": [HOT_SERVO]}})
         print(f"fault rule {rule}: servo {HOT_SERVO} overheats mid-motion")
-        deadline = time.monotonic() + ALERT_TIMEOUT_S
+        waited = 0.0
+        controller.poll()
         while HOT_SERVO not in controller.alerts:
-            check(time.monotonic() < deadline, "the controller never saw the alert bit")
+            check(waited < ALERT_TIMEOUT_S, "the controller never saw the alert bit")
+            sleep(POLL_S)
+            waited += POLL_S
             controller.poll()
         print(f"controller: alert from servo {HOT_SERVO}, Hardware Error Status "
               f"0x{controller.alerts[HOT_SERVO]:02x}")
@@ -110,10 +128,11 @@ def main() -> None:
         refused = client.write_int(HOT_SERVO, TORQUE_ENABLE, 1, 1)
         check(refused.error == ALERT | RESULT_FAIL,
               f"Torque Enable should be refused before Reboot, got error 0x{refused.error:02x}")
-        deadline = time.monotonic() + STOP_TIMEOUT_S
+        waited = 0.0
         while client.read(HOT_SERVO, MOVING, 1).value != 0:  # no torque: it coasts to a stop
-            check(time.monotonic() < deadline, "the shut-down servo should have stopped")
-            time.sleep(0.01)
+            check(waited < STOP_TIMEOUT_S, "the shut-down servo should have stopped")
+            sleep(POLL_S)
+            waited += POLL_S
         print(f"servo {HOT_SERVO} shut down and stopped at "
               f"{client.read(HOT_SERVO, PRESENT_POSITION, 4).signed} of 3048")
 

@@ -9,24 +9,27 @@ library and the dxlemu package (python/ of the dxlemu checkout: adjust the sys.p
 or set PYTHONPATH). The binary is $DXLEMU_BIN, else `dxlemu` on PATH, else the checkout's build.
 
 The steps:
-1. dxlemu runs the default bus (three XM430-W350, IDs 1 ~ 3, Protocol 2.0).
+1. dxlemu runs the default bus (three XM430-W350, IDs 1 ~ 3, Protocol 2.0) under
+   `--timing manual`: simulated time (the boot time, the moves) passes only when the script
+   steps it between the controller's rounds, so what the controller sees does not depend on how
+   busy the machine is, and replies are never dropped as late.
 2. The controller configures every servo (torque on, a goal position).
 3. The script unplugs servo 2 (control API `servo.detach`): its pings time out, the others
    still answer; the controller marks it lost.
 4. The script plugs it back in (`servo.attach`): the servo powers on and is silent while it
-   boots (about 0.4 s), then answers again.
+   boots (0.4 s), then answers again; the script steps the clock 0.1 s between the
+   controller's rounds, so the controller must find it back at the round at 0.4 s.
 5. The controller sees it back, finds Torque Enable 0 (RAM is lost with the power) and
    configures it again: torque on, goal position, and the servo moves there.
 """
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))  # the dxlemu package
 
-from dxlemu import Client, CommTimeout, Emulator  # noqa: E402
+from dxlemu import Client, CommTimeout, Control, Emulator  # noqa: E402
 from dxlemu.example import check, run_example  # noqa: E402
 
 # XM430-W350 control table (e-Manual; models/xm430-w350.json).
@@ -35,10 +38,12 @@ TORQUE_ENABLE, GOAL_POSITION, PRESENT_POSITION = 64, 116, 132
 SERVOS = (1, 2, 3)
 UNPLUGGED = 2
 GOALS = {1: 1500, 2: 2500, 3: 3000}
-BOOT_S = 0.4  # the model's boot time
-COMEBACK_TIMEOUT_S = 3.0
+BOOT_MS = 400  # the model's boot time
+ROUND_MS = 100  # simulated time between two rounds of the controller
+COMEBACK_TIMEOUT_MS = 3000
 POSITION_TOLERANCE = 20  # pulses
-MOVE_TIMEOUT_S = 5.0
+MOVE_STEP_MS = 20
+MOVE_TIMEOUT_MS = 5000
 
 
 class Controller:
@@ -74,16 +79,18 @@ class Controller:
                     self.reconfigured.append(servo)
 
 
-def wait_for_position(client: Client, servo: int, goal: int) -> None:
-    """Waits until the servo is within POSITION_TOLERANCE of `goal`."""
-    deadline = time.monotonic() + MOVE_TIMEOUT_S
+def wait_for_position(control: Control, client: Client, servo: int, goal: int) -> None:
+    """Steps the clock until the servo is within POSITION_TOLERANCE of `goal`, for at most
+    MOVE_TIMEOUT_MS of simulated time."""
+    waited = 0
     while abs(client.read(servo, PRESENT_POSITION, 4).signed - goal) > POSITION_TOLERANCE:
-        check(time.monotonic() < deadline, f"servo {servo} did not reach {goal}")
-        time.sleep(0.02)
+        check(waited < MOVE_TIMEOUT_MS, f"servo {servo} did not reach {goal}")
+        control.clock_step(ms=MOVE_STEP_MS)
+        waited += MOVE_STEP_MS
 
 
 def main() -> None:
-    with Emulator(timing="fast") as emulator, emulator.client(timeout=0.3) as client:
+    with Emulator(timing="manual") as emulator, emulator.client(timeout=0.3) as client:
         control = emulator.control
         controller = Controller(client, GOALS)
         for servo in SERVOS:
@@ -98,21 +105,25 @@ def main() -> None:
         check(controller.lost == {UNPLUGGED}, f"only servo 2 should be lost, got {controller.lost}")
 
         control.attach(UNPLUGGED)
-        plugged = time.monotonic()
         print(f"servo {UNPLUGGED} plugged back in")
+        silent = 0  # ms of simulated time since power-on
+        controller.check_servos()
         while controller.lost:
-            check(time.monotonic() - plugged < COMEBACK_TIMEOUT_S, "servo 2 never came back")
+            check(silent < COMEBACK_TIMEOUT_MS, "servo 2 never came back")
+            control.clock_step(ms=ROUND_MS)
+            silent += ROUND_MS
             controller.check_servos()
-        silent = time.monotonic() - plugged
-        print(f"controller: servo {UNPLUGGED} answers again after {silent:.2f} s")
-        check(silent >= BOOT_S * 0.75, f"servo 2 answered {silent:.2f} s after power-on, "
-                                       f"before its boot time ({BOOT_S} s)")
+        print(f"controller: servo {UNPLUGGED} answers again after {silent} ms")
+        check(silent >= BOOT_MS, f"servo 2 answered {silent} ms after power-on, before its boot "
+                                 f"time ({BOOT_MS} ms)")
+        check(silent < BOOT_MS + ROUND_MS, f"servo 2 answered only {silent} ms after power-on, "
+                                           f"not at the first round after its boot time")
         check(controller.reconfigured == [UNPLUGGED], "the controller should have re-applied "
               f"servo 2's settings, got {controller.reconfigured}")
         check(client.read(UNPLUGGED, TORQUE_ENABLE, 1).value == 1, "servo 2's torque should be on")
-        wait_for_position(client, UNPLUGGED, GOALS[UNPLUGGED])
+        wait_for_position(control, client, UNPLUGGED, GOALS[UNPLUGGED])
         for servo in SERVOS:
-            wait_for_position(client, servo, GOALS[servo])
+            wait_for_position(control, client, servo, GOALS[servo])
         check(emulator.stop() == 0, "dxlemu should stop cleanly")
 
 

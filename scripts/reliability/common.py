@@ -87,6 +87,19 @@ def idle_cpu_percent(pid: int, seconds: float) -> float:
     return 100.0 * (cpu_seconds(pid) - start_cpu) / (time.monotonic() - start)
 
 
+def heard(control: dxlemu.Control, count: int, port: str = "dxl0", timeout: float = 10.0) -> dict:
+    """Asks `stats` until the daemon has read `count` bytes on `port` (its `bytes_in`); returns
+    that port's counters. Everything the daemon does at once with those bytes is done by then,
+    so they are stamped before a manual clock is stepped. Failure after `timeout` seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        stats = control.stats(port)[port]
+        if stats["bytes_in"] >= count:
+            return stats
+        check(time.monotonic() < deadline,
+              f"the daemon read {stats['bytes_in']} of {count} bytes on {port} in {timeout} s")
+
+
 def alive(pid: int) -> bool:
     """True while process `pid` exists and is not a zombie."""
     try:

@@ -4,7 +4,7 @@
     python3 scripts/reliability/garbage_soak.py [--quick] [--minutes M]
 
 A mixed bus (two XM430-W350 speaking Protocol 2.0, IDs 1 and 2, and an AX-12A speaking 1.0,
-ID 10, all at 1 Mbps, --timing fast) gets, exchange after exchange, a chunk of random bytes
+ID 10, all at 1 Mbps, --timing manual) gets, exchange after exchange, a chunk of random bytes
 followed by a valid instruction packet (Ping, Read or Write of RAM items whose values the script
 keeps track of) in one write; the script waits for the addressed servo's status and checks it:
 error 0, and the data a real servo would return (model number, the value last written).
@@ -18,10 +18,13 @@ error 0, and the data a real servo would return (model number, the value last wr
   packet can be lost only inside a frame whose check passes. Such a frame has to start in the
   garbage; before each exchange the script looks at every header in garbage + packet, and when
   one makes a check-valid frame (a 1/256 chance for a 1.0 checksum, 1/65536 for a 2.0 CRC) it
-  draws the garbage again (counted as "redrawn"). When a header in the garbage still waits for
-  more bytes at the end of the exchange, the client stays quiet past that protocol's inter-byte
-  timeout (1.0: 100 ms, 2.0: 1.5 ms) before the next exchange, so the next one's bytes cannot
-  complete it ("pauses"). A whole phantom frame whose check fails, addressed to a servo that
+  draws the garbage again (counted as "redrawn"). When a header in the garbage waits for more
+  bytes than the write holds, it holds whatever follows it (the valid packet too, in its own
+  protocol) until that protocol's inter-byte timeout (1.0: 100 ms, 2.0: 1.5 ms) drops it and
+  the framer rescans its bytes: once the daemon has read the write, the script steps the clock
+  1 ns past that timeout, once per such header, before it waits for the reply ("pauses"). So
+  the reply comes, and the next exchange's bytes cannot complete a header left open; under
+  manual timing no other time passes, so no other partial frame times out. A whole phantom frame whose check fails, addressed to a servo that
   listens in its protocol, earns that servo's Checksum Error (1.0) or CRC Error (2.0) status, but
   the valid packet follows it in the same write: on a half-duplex line the two collide, so the
   bus drops the error status and counts a collision (docs/bus.md "Collisions"). Those collisions
@@ -40,8 +43,9 @@ import random
 import select
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
-from common import Failure, check, latency_ms, parser, rss_kib, run, summary
+from common import Failure, check, heard, latency_ms, parser, rss_kib, run, summary
 from dxlemu import Emulator
 from dxlemu.protocol import (PING, READ, STATUS, WRITE, Port, checksum1, crc16, packet1, packet2,
                              unstuff)
@@ -55,8 +59,8 @@ AX_ITEMS = {"led": (25, 1, 1), "moving_speed": (32, 2, 2047)}
 XM_MODEL_NUMBER_ITEM = (0, 2)
 MAX_GARBAGE = 48
 PLANT_HEADER_CHANCE = 1 / 40
-REPLY_TIMEOUT_S = 1.0  # well past the 1.0 inter-byte timeout a planted header may cost
-PAUSE_S = {1: 0.13, 2: 0.005}  # past each protocol's inter-byte timeout, with a margin
+REPLY_TIMEOUT_S = 1.0  # replies come at once under manual timing: only a slow host waits
+PAUSE_NS = {1: 100_000_001, 2: 1_500_001}  # just past each protocol's inter-byte timeout
 # RSS may grow this much after the first tenth of a mode (allocator warm-up) before it counts
 # as growing rather than flat.
 RSS_GROWTH_LIMIT_KIB = 1024
@@ -216,13 +220,14 @@ def parse_status(buffer: bytes) -> tuple[tuple[int, int, int, bytes], int] | Non
 
 
 def exchange(port: Port, garbage: bytes, packet: bytes, reply: tuple[int, int, bytes],
-             where: str) -> float:
-    """Sends garbage + packet in one write; waits for the expected reply (protocol, ID, data,
-    error 0) and for nothing else. Returns the time until it came."""
+             where: str, settle: Callable[[], None]) -> float:
+    """Sends garbage + packet in one write, calls `settle`, then waits for the expected reply
+    (protocol, ID, data, error 0) and for nothing else. Returns the time until it came."""
     protocol, ident, expected = reply
     port.flush_input()
     start = time.monotonic()
     port.write(garbage + packet)
+    settle()
     deadline = start + REPLY_TIMEOUT_S
     received, elapsed = b"", None
     context = f"{packet.hex(' ')} after garbage {garbage.hex(' ')}"
@@ -266,14 +271,21 @@ def soak(emulator: Emulator, port: Port, bus: Bus, arbitrary: bool, seconds: flo
         # packet behind them in the same write collides with.
         tally.dropped_errors += sum(1 for outcome in outcomes
                                     if outcome[0] == "bad" and outcome[1:] in SERVOS)
+        waits = [PAUSE_NS[outcome[1]] for outcome in outcomes if outcome[0] == "waiting"]
+        tally.pauses += bool(waits)
+        written = (emulator.control.stats()["dxl0"]["bytes_in"] + len(garbage) + len(packet)
+                   if waits else 0)
+
+        def settle() -> None:
+            """Lets each header left open time out, once the daemon has read the write."""
+            if waits:
+                heard(emulator.control, written)
+                for _ in waits:
+                    emulator.control.clock_step(ns=max(waits))
         tally.latencies.append(exchange(port, garbage, packet, (protocol, ident, expected),
-                                        f"{name}, exchange {tally.exchanges}"))
+                                        f"{name}, exchange {tally.exchanges}", settle))
         tally.exchanges += 1
         tally.garbage_bytes += len(garbage)
-        waits = [PAUSE_S[outcome[1]] for outcome in outcomes if outcome[0] == "waiting"]
-        if waits:  # a header still open: let it time out before the next bytes
-            tally.pauses += 1
-            time.sleep(max(waits))
     tally.rss.append(rss_kib(pid))
     check(emulator.running, f"{name}: the daemon exited")
     return tally
@@ -298,7 +310,7 @@ def main() -> None:
     seconds = 10.0 if args.quick else args.minutes * 60
     rng = random.Random(args.seed)
     with Emulator(servos=[f"xm430-w350:{XM_IDS[0]}-{XM_IDS[-1]}", f"ax-12a:{AX_ID}"],
-                  timing="fast", baud=BAUD) as emulator:
+                  timing="manual", baud=BAUD) as emulator:
         bus = Bus(rng)
         with Port(emulator.link, BAUD) as port:
             mode_a = soak(emulator, port, bus, False, seconds / 2, rng)

@@ -6,8 +6,9 @@
 With `--state FILE` dxlemu rewrites FILE atomically whenever a servo's EEPROM changes
 (docs/config.md "State file"). Each round here:
 
-1. starts `dxlemu run --state FILE` (one XM430-W350, --timing fast): it must start, i.e. the
-   file left by the previous kill loads, and the servo must hold the limits the file holds;
+1. starts `dxlemu run --state FILE` (one XM430-W350, --timing manual: replies at once, none
+   dropped as late on a busy machine): it must start, i.e. the file left by the previous kill
+   loads, and the servo must hold the limits the file holds;
 2. writes Max Position Limit and Min Position Limit (addresses 48 ~ 55, two 4-byte EEPROM
    items in one Write) to new values over the bus;
 3. kills the daemon with SIGKILL at a random moment from 0 to --window-ms after sending the
@@ -67,7 +68,7 @@ def start_daemon(directory: str, state: str) -> DaemonProcess:
     """`dxlemu run --state STATE` with one XM430-W350 on a link in `directory`."""
     return DaemonProcess(["--link", os.path.join(directory, "dxl0"),
                           "--control", os.path.join(directory, "control.sock"),
-                          "--servo", f"xm430-w350:{SERVO}", "--timing", "fast",
+                          "--servo", f"xm430-w350:{SERVO}", "--timing", "manual",
                           "--state", state, "--log-level", "error"])
 
 

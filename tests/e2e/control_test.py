@@ -2,18 +2,33 @@
 Unix socket and its PTY at once."""
 import json
 import os
+import select
 import stat
 import subprocess
 import tempfile
 import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, dxlemu_command, heard, packet2
+from dxl_client import (Control, Daemon, Port, assert_unanswered, dxlemu_command, heard, packet2,
+                        timeout_scale)
 
 PING, READ = 0x01, 0x02
 PING_BYTES = len(packet2(1, PING))
 BOOT_NS = 400_000_000  # a servo's boot time after power-on (docs/servo.md)
 XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45
+SHUTDOWN_MS = 300  # the shutdown scenario's one step
+
+
+def read_what_is_there(fd):
+    """The bytes a pipe holds now, without waiting for more."""
+    os.set_blocking(fd, False)
+    data = b""
+    try:
+        while chunk := os.read(fd, 65536):
+            data += chunk
+    except BlockingIOError:
+        pass
+    return data
 
 
 class ControlTest(unittest.TestCase):
@@ -40,7 +55,8 @@ class ControlTest(unittest.TestCase):
         self.assertEqual(stat.S_IMODE(mode), 0o600)
 
     def test_a_value_set_through_the_api_is_what_the_bus_reads(self):
-        _, control = self.start()
+        # Manual timing: the temperature set stays until the bus reads it (no tick cools it).
+        _, control = self.start("--timing", "manual")
         listing = control.call("list")
         self.assertEqual([s["id"] for s in listing["ports"][0]["servos"]], [1, 2, 3])
         control.call("set", port="dxl0", servo=2, item="present_temperature", value=70)
@@ -136,14 +152,13 @@ class ControlTest(unittest.TestCase):
 
 
     def test_a_fault_rule_drops_replies_until_it_is_removed(self):
-        daemon, control = self.start("--timing", "fast", "--seed", "7")
+        daemon, control = self.start("--timing", "manual", "--seed", "7")
         self.assertEqual(daemon.ready["seed"], 7)
         rule = control.call("fault.add", rule={"action": "drop_reply",
                                                "match": {"port": "dxl0", "servos": [3]}})
         self.assertEqual(rule, {"rule": 1})
         port = Port(self.link)
-        port.write(packet2(3, PING))
-        self.assertIsNone(port.status2(timeout=0.3))
+        assert_unanswered(control, port, packet2(3, PING))
         port.write(packet2(2, PING))
         self.assertEqual(port.status2()[:2], (2, 0))
         listed = control.call("fault.list")
@@ -155,7 +170,7 @@ class ControlTest(unittest.TestCase):
         port.close()
 
     def test_trace_events_reach_the_subscribed_connection_only(self):
-        _, control = self.start("--timing", "fast")
+        _, control = self.start("--timing", "manual")
         other = Control(self.socket)
         self.addCleanup(other.close)
         self.assertEqual(control.call("trace.subscribe", port="dxl0"), {"ports": ["dxl0"]})
@@ -205,13 +220,47 @@ class ControlTest(unittest.TestCase):
         port.write(packet2(2, PING))
         self.assertEqual(port.status2(), (2, 0, XM430_W350_PING))
 
-    def test_a_scenario_step_runs_on_time_without_any_traffic(self):
+    def write_shutdown_scenario(self):
         scenario = os.path.join(self.dir.name, "stop.json")
         with open(scenario, "w", encoding="utf-8") as f:
-            json.dump({"steps": [{"at_ms": 300, "cmd": "shutdown"}]}, f)
-        daemon = Daemon("--link", self.link, "--control", self.socket, "--scenario", scenario)
-        self.addCleanup(daemon.stop)
-        self.assertEqual(daemon.proc.wait(timeout=10), 0)
+            json.dump({"steps": [{"at_ms": SHUTDOWN_MS, "cmd": "shutdown"}]}, f)
+        return scenario
+
+    def test_a_scenario_step_runs_on_time_without_any_traffic(self):
+        # Manual timing: the step runs when the stepped clock reaches it, to the nanosecond,
+        # with nobody on the PTY. The shutdown logs before the reply to the step that ran it,
+        # and the daemon serves requests for a moment after it, so what tells "not yet" is its
+        # stderr read once the step's reply is in, not whether it still answers.
+        daemon, control = self.start("--timing", "manual", "--scenario",
+                                     self.write_shutdown_scenario())
+        stderr = daemon.proc.stderr.fileno()
+        self.assertEqual(control.call("clock.step", ns=SHUTDOWN_MS * 1_000_000 - 1)["ns"],
+                         SHUTDOWN_MS * 1_000_000 - 1)
+        logged = read_what_is_there(stderr)
+        self.assertNotIn(b"stopping", logged)
+        self.assertEqual(control.call("stats", port="dxl0")["dxl0"]["bytes_in"], 0)
+        self.assertEqual(control.call("clock.step", ns=1)["ns"], SHUTDOWN_MS * 1_000_000)
+        self.assertEqual(daemon.proc.wait(timeout=10 * timeout_scale()), 0)
+        logged += read_what_is_there(stderr)  # all of it: the daemon has exited
+        self.assertIn(b"stopping on the control API's shutdown", logged)
+        self.assertFalse(os.path.lexists(self.link))
+
+    def test_in_realtime_a_scenario_step_wakes_the_daemon_without_any_traffic(self):
+        # Realtime timing: nothing but the driver's timer can run the step, and not before
+        # 300 ms of the wall clock from the daemon's simulated zero, which is at the latest
+        # the moment `clock.now` was asked less the time it answers.
+        daemon, control = self.start("--scenario", self.write_shutdown_scenario())
+        asked = time.monotonic()
+        zero = asked - control.call("clock.now")["ns"] / 1e9
+        stderr, logged = daemon.proc.stderr.fileno(), b""
+        deadline = asked + 10 * timeout_scale()
+        while b"stopping" not in logged:
+            self.assertTrue(select.select([stderr], [], [], max(0, deadline - time.monotonic()))[0],
+                            f"the step did not run: {logged}")
+            logged += os.read(stderr, 65536)
+        self.assertGreaterEqual(time.monotonic() - zero, SHUTDOWN_MS / 1000)
+        self.assertIn(b"stopping on the control API's shutdown", logged)
+        self.assertEqual(daemon.proc.wait(timeout=10 * timeout_scale()), 0)
 
     def test_a_bad_scenario_file_is_refused_naming_file_pointer_and_reason(self):
         scenario = os.path.join(self.dir.name, "bad.json")

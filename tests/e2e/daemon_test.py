@@ -1,6 +1,9 @@
 """End-to-end tests: the real dxlemu binary, driven over its pseudo-terminal (docs/testing.md).
 
-Timing assertions use generous bounds only: these machines are shared and noisy.
+Tests run the daemon under manual timing, whose replies go out at once and are never dropped as
+late, unless the wall clock is their subject (reply time in realtime, a move followed in real
+time, a packet split by a sleep, what fast timing follows); their timing assertions are lower
+bounds and generous upper ones: these machines are shared and noisy.
 """
 import json
 import os
@@ -10,7 +13,8 @@ import tempfile
 import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, dxlemu_command, heard, packet1, packet2
+from dxl_client import (Control, Daemon, Port, assert_unanswered, dxlemu_command, heard, packet1,
+                        packet2)
 
 PING, READ, WRITE, SYNC_READ = 0x01, 0x02, 0x03, 0x82
 XM430_W350_PING = bytes([0xFC, 0x03, 45])  # model number 1020, firmware 45 (models/xm430-w350.json)
@@ -29,6 +33,14 @@ class DaemonTest(unittest.TestCase):
         self.addCleanup(daemon.stop)
         return daemon
 
+    def start_manual(self, *args):
+        """The daemon under manual timing, and a control connection to it."""
+        control_path = os.path.join(self.dir.name, "control.sock")
+        daemon = self.start("--timing", "manual", "--control", control_path, *args)
+        control = Control(control_path)
+        self.addCleanup(control.close)
+        return daemon, control
+
     def test_readiness_line_names_the_port_the_pty_the_link_and_the_servos(self):
         ready = self.start().ready
         self.assertEqual(ready["event"], "ready")
@@ -39,7 +51,7 @@ class DaemonTest(unittest.TestCase):
         self.assertEqual(ready["servos"], [{"id": i, "model": "xm430-w350"} for i in (1, 2, 3)])
 
     def test_ping_read_and_write_in_protocol_2(self):
-        self.start()
+        self.start_manual()
         port = Port(self.link)
         port.write(packet2(1, PING))
         self.assertEqual(port.status2(), (1, 0, XM430_W350_PING))
@@ -50,7 +62,9 @@ class DaemonTest(unittest.TestCase):
         port.close()
 
     def test_a_goal_moves_the_servo_in_real_time_along_its_profile(self):
-        self.start("--servo", "xm430-w350:1")
+        # Realtime timing is the subject; a reply the loaded machine made late is still one the
+        # test waits for, so none is dropped.
+        self.start("--servo", "xm430-w350:1", "--late-reply-limit-ms", "0")
         port = Port(self.link)
 
         def write(address, value, size):
@@ -82,18 +96,17 @@ class DaemonTest(unittest.TestCase):
         port.close()
 
     def test_protocol_1_servo_at_1_mbps_on_a_mixed_bus(self):
-        self.start("--servo", "xm430-w350:1", "--servo", "ax-12a:5")
+        _, control = self.start_manual("--servo", "xm430-w350:1", "--servo", "ax-12a:5")
         port = Port(self.link, 1000000)  # AX-12A factory rate; the XM430 hears noise
         port.write(packet1(5, PING))
         self.assertEqual(port.status1(), (5, 0, b""))
         port.write(packet1(5, READ, bytes([0, 2])))  # Model Number
         self.assertEqual(port.status1(), (5, 0, bytes([12, 0])))
-        port.write(packet2(1, PING))
-        self.assertIsNone(port.status2(timeout=0.2))
+        assert_unanswered(control, port, packet2(1, PING))
         port.close()
 
     def test_broadcast_ping_and_sync_read_answer_in_order(self):
-        self.start()
+        self.start_manual()
         port = Port(self.link)
         port.write(packet2(0xFE, PING))
         self.assertEqual([port.status2()[0] for _ in range(3)], [1, 2, 3])
@@ -178,10 +191,9 @@ class DaemonTest(unittest.TestCase):
         self.assertIsNone(port.status1(timeout=0.3))
 
     def test_a_client_at_another_baud_rate_gets_no_answer(self):
-        self.start()
+        _, control = self.start_manual()
         port = Port(self.link, 115200)
-        port.write(packet2(1, PING))
-        self.assertIsNone(port.status2(timeout=0.2))
+        assert_unanswered(control, port, packet2(1, PING))
         port.set_baud(57600)
         port.write(packet2(1, PING))
         self.assertEqual(port.status2(), (1, 0, XM430_W350_PING))
@@ -199,16 +211,8 @@ class DaemonTest(unittest.TestCase):
         self.assertLess(elapsed, 0.5)
         port.close()
 
-    def test_a_thousand_close_and_reopen_cycles_each_get_an_answer(self):
-        self.start()
-        for _ in range(1000):
-            port = Port(self.link)
-            port.write(packet2(1, PING))
-            self.assertEqual(port.status2()[0], 1)
-            port.close()
-
     def test_baud_option_moves_every_servo_to_that_rate(self):
-        self.start("--baud", "1000000")
+        self.start_manual("--baud", "1000000")
         port = Port(self.link, 1000000)
         port.write(packet2(2, PING))
         self.assertEqual(port.status2(), (2, 0, XM430_W350_PING))
@@ -217,12 +221,11 @@ class DaemonTest(unittest.TestCase):
         port.close()
 
     def test_protocol_option_switches_x_servos_to_protocol_1(self):
-        self.start("--protocol", "1")
+        _, control = self.start_manual("--protocol", "1")
         port = Port(self.link)
         port.write(packet1(1, PING))
         self.assertEqual(port.status1(), (1, 0, b""))
-        port.write(packet2(1, PING))
-        self.assertIsNone(port.status2(timeout=0.2))
+        assert_unanswered(control, port, packet2(1, PING))
         port.close()
 
     def test_sigterm_stops_cleanly_and_removes_the_link(self):
@@ -263,7 +266,7 @@ class DaemonTest(unittest.TestCase):
                 {"model": "xm430-w350", "ids": [1, 2], "items": {"return_delay_time": 0}}]},
             {"name": "legs", "link": legs, "servos": [
                 {"model": "ax-12a", "id": 7, "baud": 57600}]}]})
-        daemon = Daemon("--config", config)
+        daemon = Daemon("--config", config, "--timing", "manual")
         self.addCleanup(daemon.stop)
         self.assertEqual(daemon.ready["port"], "arm")
         second = json.loads(daemon.proc.stdout.readline())
@@ -305,7 +308,7 @@ class DaemonTest(unittest.TestCase):
 
     def test_state_keeps_eeprom_across_restarts_and_is_saved_at_once(self):
         state = os.path.join(self.dir.name, "state.json")
-        daemon = self.start("--state", state)
+        daemon = self.start("--state", state, "--timing", "manual")
         port = Port(self.link)
         port.write(packet2(2, WRITE, bytes([9, 0, 10])))  # Return Delay Time 10
         self.assertEqual(port.status2(), (2, 0, b""))
@@ -323,7 +326,7 @@ class DaemonTest(unittest.TestCase):
         daemon.proc.send_signal(signal.SIGKILL)
         daemon.proc.wait()
         os.unlink(self.link)  # a killed daemon cannot remove its link
-        ready = self.start("--state", state).ready
+        ready = self.start("--state", state, "--timing", "manual").ready
         self.assertEqual([s["id"] for s in ready["servos"]], [1, 2, 30])
         port = Port(self.link)
         port.write(packet2(0xFE, PING))
@@ -350,8 +353,11 @@ class DaemonTest(unittest.TestCase):
             return [json.loads(line) for line in f]
 
     def test_trace_writes_every_packet_both_ways_decoded(self):
+        # Realtime timing, the one that models reply delays, which the trace's times show; a
+        # reply the loaded machine made late is traced at its modelled time all the same, and
+        # sent rather than dropped.
         trace = os.path.join(self.dir.name, "trace.jsonl")
-        daemon = self.start("--trace", trace)
+        daemon = self.start("--trace", trace, "--late-reply-limit-ms", "0")
         port = Port(self.link)
         port.write(packet2(1, READ, bytes([132, 0, 4, 0])))
         self.assertIsNotNone(port.status2())
@@ -370,9 +376,9 @@ class DaemonTest(unittest.TestCase):
         self.assertGreater(lines[1]["t"] - lines[0]["t"], 0.0005 + 0.00005)
 
     def test_fast_timing_replies_at_once_and_manual_timing_keeps_time_still(self):
-        for mode in ("fast", "manual"):
+        for mode, others in (("fast", ["--late-reply-limit-ms", "0"]), ("manual", [])):
             trace = os.path.join(self.dir.name, mode + ".jsonl")
-            daemon = Daemon("--link", self.link, "--timing", mode, "--trace", trace)
+            daemon = Daemon("--link", self.link, "--timing", mode, "--trace", trace, *others)
             port = Port(self.link)
             time.sleep(0.01)
             port.write(packet2(0xFE, PING))

@@ -5,7 +5,8 @@ The package's codec is written independently of the C++ one, from ../shared/refe
 protocol1.md, protocol2.md and protocol2-crc.md. This module only adds `python/` to sys.path,
 re-exports the names the tests use, and keeps `Daemon`, the tests' raw handle on
 `dxlemu run ARGS` (arguments as given, one readiness line read, stdout and stderr left to the
-test), and `dxlemu_command`, the argument list of any other dxlemu run.
+test), `dxlemu_command`, the argument list of any other dxlemu run, and two ways of waiting on
+what the daemon reports rather than on the wall clock (`heard`, `assert_unanswered`).
 
 Both honour $DXLEMU_WRAPPER (scripts/memcheck.sh runs every dxlemu under valgrind that way),
 and a `Daemon` $DXLEMU_CHECK_EXIT and $DXLEMU_TIMEOUT_SCALE too (python/dxlemu/daemon.py).
@@ -27,7 +28,8 @@ from dxlemu.port import BAUD_RATES as BAUD  # noqa: E402
 from dxlemu.port import Port  # noqa: E402
 
 __all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "DaemonProcess", "Port",
-           "crc16", "dxlemu_command", "heard", "packet1", "packet2", "stuff", "timeout_scale", "unstuff"]
+           "assert_unanswered", "crc16", "dxlemu_command", "heard", "packet1", "packet2", "stuff",
+           "timeout_scale", "unstuff"]
 
 BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 
@@ -73,3 +75,19 @@ def heard(control: Control, count: int, port: str = "dxl0", timeout: float = 5.0
         if time.monotonic() > deadline:
             raise AssertionError(f"the daemon read {stats['bytes_in']} of {count} bytes on "
                                  f"{port} in {timeout} s")
+
+
+def assert_unanswered(control: Control, port: Port, packet: bytes, port_name: str = "dxl0") -> dict:
+    """Writes `packet` and checks that the daemon read it and answered nothing: under fast and
+    manual timing a reply is counted in `replies`, and written to the PTY, by the time `heard`
+    returns, so an unchanged count and no byte waiting are silence, not a slow daemon. Returns
+    the port's counters after. AssertionError otherwise."""
+    before = control.call("stats", port=port_name)[port_name]
+    port.write(packet)
+    after = heard(control, before["bytes_in"] + len(packet), port_name)
+    arrived = port.read(1, timeout=0.05)
+    if after["replies"] != before["replies"] or arrived:
+        replies = after["replies"] - before["replies"]
+        raise AssertionError(f"{packet.hex(' ')} was answered ({replies} replies counted, "
+                             f"{arrived.hex(' ') or 'nothing'} arrived)")
+    return after

@@ -3,7 +3,9 @@ controller library does to its port and prints what happened as one JSON line on
 
   flood PATH COUNT tcflush|ioctl   COUNT Sync Writes, each after an output flush as pyserial's
                                    flushOutput() does (termios.tcflush, or ioctl(TCFLSH)), then
-                                   a Ping of ID 1 whose reply shows that every byte was read
+                                   a Ping of ID 1 whose reply shows that every byte was read;
+                                   a first line {"written": BYTES} once everything is written,
+                                   before it waits for the reply
   serial PATH                      DynamixelSDK's and pyserial's low-latency open (TIOCGSERIAL,
                                    ASYNC_LOW_LATENCY, TIOCSSERIAL, read back), modem lines, RS-485
   foreign                          the same requests, and output flushes (and none, to compare),
@@ -14,6 +16,7 @@ import errno
 import fcntl
 import json
 import os
+import select
 import struct
 import sys
 import termios
@@ -32,18 +35,28 @@ PING = 0x01
 LED = 65  # XM430-W350's LED, a RAM item: writing it changes nothing lasting
 SERIAL_INTS = 32  # pyserial's buffer for struct serial_struct
 RS485_BYTES = 32  # struct serial_rs485
+# Reading back what a PTY of the client's own holds: all of it within READ_ALL_S when nothing
+# was flushed, else until QUIET_S pass without a byte.
+READ_ALL_S = 10.0
+QUIET_S = 0.2
 
 
 def flood(path: str, count: int, mode: str) -> dict:
     port = Port(path)
+    written = 0
     for i in range(count):
         if mode == "tcflush":
             termios.tcflush(port.fd, termios.TCOFLUSH)
         else:
             fcntl.ioctl(port.fd, termios.TCFLSH, termios.TCOFLUSH)
         params = struct.pack("<HH", LED, 1) + bytes([1, i & 1, 2, i & 1, 3, i & 1])
-        port.write(packet2(0xFE, SYNC_WRITE, params))
-    port.write(packet2(1, PING))
+        packet = packet2(0xFE, SYNC_WRITE, params)
+        port.write(packet)
+        written += len(packet)
+    ping = packet2(1, PING)
+    port.write(ping)
+    # The test may hold the daemon stopped until everything is written: it waits for this line.
+    print(json.dumps({"written": written + len(ping)}), flush=True)
     status = port.status2(timeout=10)
     port.close()
     return {"sent": count, "ping_answered": status is not None}
@@ -101,10 +114,12 @@ def serial(path: str) -> dict:
         os.close(fd)
 
 
-def flushed_bytes(master: int, slave: int, flush) -> dict:
+def flushed_bytes(master: int, slave: int, flush, everything: bool) -> dict:
     """Bytes written to `slave` with nobody reading `master`, then `flush`ed: a PTY holds 4 KiB
     in the master's line discipline and the rest in its buffer, which an output flush discards,
-    so more than 4 KiB written and fewer read back shows a flush that discards."""
+    so more than 4 KiB written and fewer read back shows a flush that discards. The kernel's
+    worker moves the rest to the master as the reads make room: they go on until `everything`
+    written has come (at most READ_ALL_S), or else until QUIET_S pass without a byte."""
     os.set_blocking(slave, False)
     written = 0
     try:
@@ -113,17 +128,13 @@ def flushed_bytes(master: int, slave: int, flush) -> dict:
     except BlockingIOError:
         pass
     flush(slave)
-    time.sleep(0.2)  # the kernel's worker moves what is left to the master
-    os.set_blocking(master, False)
     read = 0
-    try:
-        while True:
-            chunk = os.read(master, 65536)
-            if not chunk:
-                break
-            read += len(chunk)
-    except BlockingIOError:
-        pass
+    deadline = time.monotonic() + READ_ALL_S
+    while not (everything and read == written):
+        wait = deadline - time.monotonic() if everything else QUIET_S
+        if wait <= 0 or not select.select([master], [], [], wait)[0]:
+            break
+        read += len(os.read(master, 65536))
     return {"written": written, "read": read}
 
 
@@ -134,7 +145,7 @@ def foreign() -> dict:
                         ("ioctl", lambda fd: fcntl.ioctl(fd, termios.TCFLSH, termios.TCOFLUSH))):
         master, slave = os.openpty()
         tty.setraw(slave)
-        out[name] = flushed_bytes(master, slave, flush)
+        out[name] = flushed_bytes(master, slave, flush, everything=name == "none")
         os.close(master)
         os.close(slave)
     master, slave = os.openpty()

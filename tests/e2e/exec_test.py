@@ -2,6 +2,7 @@
 (exec_client.py) on the real daemon's PTY, with and without exec."""
 import json
 import os
+import select
 import signal
 import subprocess
 import sys
@@ -10,13 +11,15 @@ import time
 import unittest
 from unittest import mock
 
-from dxl_client import Control, Daemon, dxlemu_command, timeout_scale
+from dxl_client import Control, Daemon, dxlemu_command, packet2, timeout_scale
 
 CLIENT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "exec_client.py")
-# Packets per flood: at 14 to 20 lost of 60 measured without exec, a few hundred lose some for
-# certain; a flood that loses none is tried again a few times before the test calls it a failure.
-FLOOD = 200
-FLOOD_ATTEMPTS = 5
+# What the master's line discipline holds for a reader that does not read: an output flush on
+# the client's side discards only what is beyond it (exec_client.py's flushed_bytes).
+LINE_DISCIPLINE_BYTES = 4096
+SYNC_WRITE_BYTES = len(packet2(0xFE, 0x83, bytes(10)))  # exec_client.py's LED Sync Write
+# Packets per flood: twice what the line discipline holds, so that a flush has packets to find.
+FLOOD = 2 * LINE_DISCIPLINE_BYTES // SYNC_WRITE_BYTES
 
 
 def run(args, env=None, timeout=60):
@@ -41,7 +44,8 @@ class ExecTest(unittest.TestCase):
         self.link = os.path.join(self.dir.name, "dxl0")
         # The daemon's default control socket goes to the test's own XDG_RUNTIME_DIR.
         with mock.patch.dict(os.environ, {"XDG_RUNTIME_DIR": self.runtime}):
-            self.daemon = Daemon("--link", self.link)
+            # Manual timing: the Ping's reply goes out at once, however late the daemon runs.
+            self.daemon = Daemon("--link", self.link, "--timing", "manual")
         self.addCleanup(self.daemon.stop)
         self.control = Control(self.daemon.ready["control"])
         self.addCleanup(self.control.close)
@@ -58,10 +62,26 @@ class ExecTest(unittest.TestCase):
         return self.control.call("stats", port="dxl0")["dxl0"]["frames"]
 
     def flood_heard(self, *prefix, mode="tcflush"):
-        """How many of FLOOD flushed Sync Writes the daemon decoded (its Ping aside)."""
+        """How many of FLOOD flushed Sync Writes the daemon decoded (its Ping aside). The daemon
+        is stopped (SIGSTOP) while the client writes, so that packets wait in the PTY for the
+        next flush, as they do whenever a client writes faster than the daemon reads (the loss
+        is otherwise a race with the kernel's PTY worker, which a slow daemon may never lose);
+        it goes on once the client has written everything, Ping included."""
         before = self.frames()
-        out = self.result(*run([*prefix, *client("flood", self.link, str(FLOOD), mode)]))
-        self.assertTrue(out["ping_answered"])
+        pid = self.daemon.proc.pid
+        os.kill(pid, signal.SIGSTOP)
+        try:
+            flood = subprocess.Popen([*prefix, *client("flood", self.link, str(FLOOD), mode)],
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            self.addCleanup(flood.kill)  # a client left waiting by a failed check
+            ready, _, _ = select.select([flood.stdout], [], [], 30 * timeout_scale())
+            written = json.loads(flood.stdout.readline()) if ready else None
+        finally:
+            os.kill(pid, signal.SIGCONT)
+        self.assertEqual(written, {"written": FLOOD * SYNC_WRITE_BYTES + len(packet2(1, 0x01))},
+                         "the client did not write everything")
+        out, err = flood.communicate(timeout=60 * timeout_scale())
+        self.assertTrue(self.result(flood.returncode, out, err)["ping_answered"])
         return self.frames() - before - 1
 
     def test_an_output_flush_before_each_packet_loses_nothing_under_exec(self):
@@ -71,15 +91,12 @@ class ExecTest(unittest.TestCase):
                 self.assertEqual(self.flood_heard(*exec_prefix, mode=mode), FLOOD)
 
     def test_an_output_flush_before_each_packet_loses_packets_on_a_bare_pty(self):
-        # The loss is a race with the kernel's PTY worker: usual on this project's machines (a
-        # few of 201 arrive), but a slow daemon (a sanitizer build) can win it every time. Then
-        # the problem did not show, which says nothing about exec: skipped, not passed.
-        heard = []
-        for _ in range(FLOOD_ATTEMPTS):
-            heard.append(self.flood_heard())
-            if heard[-1] < FLOOD:
-                return
-        self.skipTest(f"no packet lost without exec in {heard}: the race did not show here")
+        # What the line discipline held when the flushes came, and the last packet, written
+        # after the last flush: every other packet was discarded.
+        for mode in ("tcflush", "ioctl"):
+            with self.subTest(mode=mode):
+                self.assertLessEqual(self.flood_heard(mode=mode),
+                                     LINE_DISCIPLINE_BYTES // SYNC_WRITE_BYTES + 1)
 
     def test_the_sdk_open_with_low_latency_modem_lines_and_rs485_work_under_exec_only(self):
         bare = self.result(*run(client("serial", self.link)))

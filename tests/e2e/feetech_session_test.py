@@ -10,15 +10,17 @@ SYNC READ Present_Position (56, 2 bytes) until every servo has arrived at its go
 homing offset, then a hardware fault injected through the control API, seen in the status error
 byte and in Servo status (65).
 
+The daemon runs under manual timing: replies go out at once, and the moves, the fault's
+detection and the scenario's timeline wait for the test to step the clock.
+
 The FEETECH frames are built here with a small local helper (checksum = ~sum & 0xFF).
 """
 import json
 import os
 import tempfile
-import time
 import unittest
 
-from dxl_client import Control, Daemon, Port, timeout_scale
+from dxl_client import Control, Daemon, Port, assert_unanswered, timeout_scale
 
 PING, READ, WRITE, SYNC_READ, SYNC_WRITE = 0x01, 0x02, 0x03, 0x82, 0x83
 BROADCAST = 0xFE
@@ -29,6 +31,9 @@ HOMING_OFFSET, TORQUE, GOAL, LOCK, PRESENT, STATUS = 31, 40, 42, 55, 56, 65
 STS3215 = 777
 OVERHEAT = 0x04  # Servo status bit 2 (FTServo_Python ERRBIT_OVERHEAT)
 OVERLOAD = 0x20  # Servo status bit 5 (ERRBIT_OVERLOAD)
+TICK_MS = 1  # the servos' motion tick, at which they detect a hardware error (docs/faults.md)
+STEP_MS = 20  # how far the session steps the clock between two looks at moving servos
+OVERLOAD_UNTIL_MS = 1500  # the end of the scenario's overload
 
 
 def checksum(body: bytes) -> int:
@@ -56,7 +61,7 @@ class FeetechSessionTest(unittest.TestCase):
         cls.dir = tempfile.TemporaryDirectory()
         cls.link = os.path.join(cls.dir.name, "ttyACM0")
         cls.daemon = Daemon("--link", cls.link, "--control", os.path.join(cls.dir.name, "ctl"),
-                            "--servo", "sts3215:1-6", "--baud", "1000000")
+                            "--servo", "sts3215:1-6", "--baud", "1000000", "--timing", "manual")
         cls.control = Control(cls.daemon.ready["control"])
         cls.port = Port(cls.link, 1_000_000)
 
@@ -106,8 +111,7 @@ class FeetechSessionTest(unittest.TestCase):
             self.assertEqual(self.ask(ident, PING), (0, b""))
             self.assertEqual(int.from_bytes(self.read(ident, MODEL_NUMBER, 2), "little"), STS3215)
         # Nobody at ID 7: silence.
-        self.port.write(frame(7, PING))
-        self.assertEqual(self.port.read(6, timeout=0.05), b"")
+        assert_unanswered(self.control, self.port, frame(7, PING))
         # Six servos answer a broadcast ping at once: one 6-byte packet whose bytes collided
         # (the wired AND of the six), with a checksum that does not match.
         self.port.write(frame(BROADCAST, PING))
@@ -134,15 +138,14 @@ class FeetechSessionTest(unittest.TestCase):
             self.write(ident, LOCK, b"\x01")
         goals = {ident: 1000 + 300 * ident for ident in IDS}
         params = bytes([GOAL, 2]) + b"".join(bytes([ident]) + word(goals[ident]) for ident in IDS)
-        self.port.write(frame(BROADCAST, SYNC_WRITE, params))
-        self.assertEqual(self.port.read(1, timeout=0.05), b"")  # SYNC WRITE: no reply
-        deadline = time.monotonic() + 10 * timeout_scale()
-        while True:
+        assert_unanswered(self.control, self.port, frame(BROADCAST, SYNC_WRITE, params))
+        for _ in range(10_000 // STEP_MS):  # 10 s of simulated time at most
             present = {i: int.from_bytes(d, "little") for i, d in self.sync_read(PRESENT, 2).items()}
             if all(abs(present[i] - goals[i]) <= 3 for i in IDS):
                 break
-            self.assertLess(time.monotonic(), deadline, f"not arrived: {present} (goals {goals})")
-            time.sleep(0.02)
+            self.control.call("clock.step", ms=STEP_MS)
+        else:
+            self.fail(f"not arrived after 10 s: {present} (goals {goals})")
         # The control API sees the shaft where the offsets say.
         for ident in IDS:
             shaft = self.control.call("get", servo=ident, item="present_position")["value"]
@@ -157,14 +160,9 @@ class FeetechSessionTest(unittest.TestCase):
         rule = self.control.call("fault.add", rule={"action": "hardware_error", "kind": "overheating",
                                                     "match": {"servos": [3]}})
         try:
-            deadline = time.monotonic() + 5 * timeout_scale()
-            while True:
-                error, data = self.ask(3, READ, bytes([STATUS, 1]), 1)
-                if error == OVERHEAT:
-                    break
-                self.assertLess(time.monotonic(), deadline, f"error byte {error:#04x}")
-                time.sleep(0.01)
-            self.assertEqual(data, bytes([OVERHEAT]))
+            self.control.call("clock.step", ms=TICK_MS)  # detected at the next tick
+            error, data = self.ask(3, READ, bytes([STATUS, 1]), 1)
+            self.assertEqual((error, data), (OVERHEAT, bytes([OVERHEAT])))
             self.assertEqual(self.ask(2, PING), (0, b""))  # the others are fine
         finally:
             self.control.call("fault.remove", rule=rule["rule"])
@@ -181,9 +179,12 @@ class FeetechScenarioAndStateTest(unittest.TestCase):
         self.state = os.path.join(self.dir.name, "state.json")
 
     def start(self, *extra: str) -> tuple[Daemon, Port]:
+        control = os.path.join(self.dir.name, "ctl")
         daemon = Daemon("--link", self.link, "--servo", "sts3215:1-2", "--baud", "1000000",
-                        "--state", self.state, *extra)
+                        "--state", self.state, "--timing", "manual", "--control", control, *extra)
         self.addCleanup(daemon.stop)
+        self.control = Control(control)
+        self.addCleanup(self.control.close)
         port = Port(self.link, 1_000_000)
         self.addCleanup(port.close)
         return daemon, port
@@ -201,15 +202,16 @@ class FeetechScenarioAndStateTest(unittest.TestCase):
             json.dump({"steps": [
                 {"at_ms": 0, "cmd": "fault.add",
                  "rule": {"action": "hardware_error", "kind": "overload",
-                          "match": {"servos": [2]}, "until_ms": 1500}}]}, f)
+                          "match": {"servos": [2]}, "until_ms": OVERLOAD_UNTIL_MS}}]}, f)
         _, port = self.start("--scenario", scenario)
+        self.control.call("clock.step", ms=TICK_MS)  # detected at the first tick
         error, data = self.ask(port, 2, READ, bytes([STATUS, 1]), 1)
         self.assertEqual((error, data), (OVERLOAD, bytes([OVERLOAD])))
         self.assertEqual(self.ask(port, 1, PING, b""), (0, b""))
-        deadline = time.monotonic() + 10 * timeout_scale()
-        while self.ask(port, 2, PING, b"")[0] != 0:
-            self.assertLess(time.monotonic(), deadline, "the overload outlived its until_ms")
-            time.sleep(0.05)
+        self.control.call("clock.step", ns=OVERLOAD_UNTIL_MS * 1_000_000 - 1 - TICK_MS * 1_000_000)
+        self.assertEqual(self.ask(port, 2, PING, b"")[0], OVERLOAD, "gone before its until_ms")
+        self.control.call("clock.step", ns=1 + TICK_MS * 1_000_000)  # and the tick that sees it go
+        self.assertEqual(self.ask(port, 2, PING, b""), (0, b""), "the overload outlived its until_ms")
 
     def test_eeprom_written_unlocked_survives_a_restart_written_locked_does_not(self):
         daemon, port = self.start()

@@ -16,11 +16,14 @@ import time
 import unittest
 from pathlib import Path
 
-from dxl_client import Daemon, Port, crc16, packet1, packet2
+from dxl_client import Control, Daemon, Port, crc16, packet1, packet2
 
 PING, READ, WRITE, SYNC_READ, FAST_SYNC_READ, STATUS = 0x01, 0x02, 0x03, 0x82, 0x8A, 0x55
 PRESENT_POSITION, GOAL_POSITION = 132, 116
 TO_SERVOS, TO_CLIENT = 0, 1
+# The capture's clock is stepped this far before each packet, so that every packet and its
+# replies have a time of their own, known to the nanosecond.
+STEP_NS = 1_234_567
 FEETECH = 0x46  # the pseudo-header's protocol byte of a FEETECH port
 LUA = Path(__file__).resolve().parents[2] / "scripts" / "dxlemu.lua"
 TSHARK = shutil.which("tshark")
@@ -72,7 +75,8 @@ def with_bad_crc(packet):
 
 
 class CaptureTest(unittest.TestCase):
-    """The real daemon's capture of Ping, Read, Write, a bad CRC and a Sync Read."""
+    """The real daemon's capture of Ping, Read, Write, a bad CRC and a Sync Read, on a stepped
+    clock (manual timing: replies at once, at their instruction's time)."""
 
     @classmethod
     def setUpClass(cls):
@@ -80,9 +84,12 @@ class CaptureTest(unittest.TestCase):
         link = os.path.join(cls.dir.name, "dxl0")
         cls.pcap = os.path.join(cls.dir.name, "capture.pcap")
         trace = os.path.join(cls.dir.name, "trace.jsonl")
+        control_path = os.path.join(cls.dir.name, "control.sock")
         cls.started = time.time()
-        daemon = Daemon("--link", link, "--pcap", cls.pcap, "--trace", trace)
+        daemon = Daemon("--link", link, "--pcap", cls.pcap, "--trace", trace,
+                        "--timing", "manual", "--control", control_path)
         try:
+            control = Control(control_path)
             port = Port(link)
             cls.sent = [packet2(1, PING),
                         packet2(2, READ, bytes([PRESENT_POSITION, 0, 4, 0])),
@@ -90,11 +97,14 @@ class CaptureTest(unittest.TestCase):
                         with_bad_crc(packet2(1, READ, bytes([PRESENT_POSITION, 0, 4, 0]))),
                         packet2(0xFE, SYNC_READ, bytes([PRESENT_POSITION, 0, 4, 0, 1, 2, 3]))]
             cls.replies = []
-            for packet, replies in zip(cls.sent, (1, 1, 1, 1, 3)):
+            cls.replies_per_packet = (1, 1, 1, 1, 3)
+            for packet, replies in zip(cls.sent, cls.replies_per_packet):
+                control.call("clock.step", ns=STEP_NS)
                 port.write(packet)
                 for _ in range(replies):
                     cls.replies.append(port.status2())
             port.close()
+            control.close()
         finally:
             cls.exit_code = daemon.stop()
         with open(trace) as f:
@@ -124,8 +134,12 @@ class CaptureTest(unittest.TestCase):
         self.assertEqual(instructions, self.sent)  # the bad packet too, found among the bytes in
         times = [t for t, _ in records]
         self.assertEqual(times, sorted(times))
-        # Wall-clock time at start plus simulated time (realtime mode: about the wall clock).
+        # Wall-clock time at start plus simulated time.
         self.assertLess(abs(times[0] / 1e6 - self.started), 30)
+        # Each packet and its replies at the time the clock was stepped to before it.
+        stepped = [STEP_NS * (i + 1) for i, replies in enumerate(self.replies_per_packet)
+                   for _ in range(1 + replies)]
+        self.assertEqual([round(line["t"] * 1e9) for line in self.trace], stepped)
         for (t, _), line in zip(records, self.trace):
             # Both are the same simulated time; the capture's is cut to microseconds.
             self.assertAlmostEqual((t - times[0]) / 1e6, line["t"] - self.trace[0]["t"], delta=1.5e-6)

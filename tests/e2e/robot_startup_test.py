@@ -14,15 +14,17 @@ import fcntl
 import os
 import tempfile
 import termios
-import time
 import unittest
 
-from dxl_client import Daemon, timeout_scale
-from dxlemu.protocol import BROADCAST_ID, FEETECH, Client, CommTimeout, packet2
+from dxl_client import Control, Daemon, assert_unanswered, heard, timeout_scale
+from dxlemu.protocol import BROADCAST_ID, FEETECH, PING, Client
 
 # Fast Sync Read (Protocol 2.0): one status from 0xFE with a block per servo.
 FAST_SYNC_READ = 0x8A
 FAST_REPLY_ID = 0xFE
+
+# How far the replays step the clock between two looks at a moving servo.
+STEP_MS = 20
 
 # Linux termios2 (asm-generic/termbits.h): a baud rate that has no B constant (6 Mbit/s).
 TCGETS2, TCSETS2 = 0x802C542A, 0x402C542B
@@ -58,12 +60,15 @@ class RobotBus(unittest.TestCase):
         tmp = tempfile.TemporaryDirectory()
         self.addCleanup(tmp.cleanup)
         link = os.path.join(tmp.name, "tty")
-        # The replays check what the servos answer, not when: fast timing, and no late reply
-        # dropped, as a machine busy with other tests would otherwise make dxlemu do (under
-        # realtime and fast timing alike: docs/timing.md "Late replies").
-        daemon = Daemon("--robot", robot, "--link", link, "--timing", "fast",
-                        "--late-reply-limit-ms", "0", "--control", os.path.join(tmp.name, "ctl"))
+        # The replays check what the servos answer, not when: manual timing, whose replies go
+        # out at once and are never dropped as late, and whose clock moves the servos only when
+        # the replay steps it.
+        daemon = Daemon("--robot", robot, "--link", link, "--timing", "manual",
+                        "--control", os.path.join(tmp.name, "ctl"))
         self.addCleanup(daemon.stop)
+        self.control = Control(daemon.ready["control"])
+        self.addCleanup(self.control.close)
+        self.port_name = daemon.ready["port"]
         self.assertEqual(daemon.ready["link"], link)
         self.assertEqual([(s["id"], s["model"]) for s in daemon.ready["servos"]], expected_servos)
         client = Client(link, baud=min(baud, 1_000_000), protocol=protocol,
@@ -94,10 +99,16 @@ class RobotBus(unittest.TestCase):
     def fast_sync_read(self, client: Client, address: int, size: int, ids) -> dict[int, bytes] | None:
         """Fast Sync Read: the data of each servo's block, or None when nobody answered."""
         ids = list(ids)
-        client.send(BROADCAST_ID, FAST_SYNC_READ, le(address, 2) + le(size, 2) + bytes(ids))
-        status = client.port.status2(0.3 * timeout_scale())
-        if status is None:
+        packet = client.packet(BROADCAST_ID, FAST_SYNC_READ,
+                               le(address, 2) + le(size, 2) + bytes(ids))
+        before = self.control.stats(self.port_name)[self.port_name]
+        client.port.write(packet)
+        after = heard(self.control, before["bytes_in"] + len(packet), self.port_name)
+        if after["replies"] == before["replies"]:
+            self.assertEqual(client.port.read(1, timeout=0.05), b"")
             return None
+        status = client.port.status2(0.5 * timeout_scale())
+        self.assertIsNotNone(status, "a reply was counted but none came")
         self.assertEqual(status.id, FAST_REPLY_ID)
         # Blocks: ID, data, CRC (2), then the next block's error; the last CRC is the packet's.
         out, rest, error = {}, status.params, status.error
@@ -111,22 +122,17 @@ class RobotBus(unittest.TestCase):
 
     def silent(self, client: Client, ident: int) -> None:
         """Nobody answers a Ping of `ident`."""
-        saved = client.timeout
-        client.timeout = 0.05
-        try:
-            with self.assertRaises(CommTimeout):
-                client.ping(ident)
-        finally:
-            client.timeout = saved
+        assert_unanswered(self.control, client.port, client.packet(ident, PING), self.port_name)
 
     def wait_until(self, condition, what: str, seconds: float = 5.0):
-        deadline = time.monotonic() + seconds * timeout_scale()
-        while True:
-            got = condition()
-            if got is True:
+        """Steps the clock STEP_MS at a time until `condition()` is True, for `seconds` of
+        simulated time at most; it returns True or what to show when it never is."""
+        for _ in range(round(seconds * 1000 / STEP_MS)):
+            if condition() is True:
                 return
-            self.assertLess(time.monotonic(), deadline, f"{what}: {got}")
-            time.sleep(0.02)
+            self.control.clock_step(ms=STEP_MS)
+        got = condition()
+        self.assertIs(got, True, f"{what} after {seconds} s: {got}")
 
 
 # DYNAMIXEL X series items (models/xm430-w350.json and the other X files).

@@ -5,6 +5,8 @@ which copy of the package, which binary and which version they must find."""
 import os
 from pathlib import Path
 
+import pytest
+
 import dxlemu as package
 
 
@@ -18,6 +20,7 @@ def test_the_binary_is_found_without_being_named():
     assert package.find_binary() == os.environ["EXPECTED_BINARY"]
 
 
+@pytest.mark.dxlemu(timing="manual")  # the Ping's reply at once, never dropped as late
 def test_the_fixture_comes_from_the_installed_entry_point(dxlemu, pytestconfig):
     loaded = {dist.metadata["Name"]: dist.version
               for _, dist in pytestconfig.pluginmanager.list_plugin_distinfo()}

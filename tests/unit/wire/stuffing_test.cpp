@@ -3,6 +3,8 @@
 // Sync/Bulk Read replies are never stuffed.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "framer_events.hpp"
 #include "wire/crc16.hpp"
 #include "wire/instruction_decoder.hpp"
@@ -87,6 +89,9 @@ TEST_CASE("A Write whose data holds FF FF FD is stuffed, LENGTH counts the stuff
 
 TEST_CASE("A stuffed packet split inside its stuffing still frames", "[wire][stuffing]") {
   const Bytes bytes = wire::encode_instruction(write_of({0xFF, 0xFF, 0xFD, 0xFF, 0xFF, 0xFD}));
+  // Both patterns went out stuffed, so that some cuts below fall inside the stuffing.
+  const Bytes stuffed{0xFF, 0xFF, 0xFD, 0xFD, 0xFF, 0xFF, 0xFD, 0xFD};
+  REQUIRE(std::search(bytes.begin(), bytes.end(), stuffed.begin(), stuffed.end()) != bytes.end());
   for (std::size_t cut = 1; cut < bytes.size(); ++cut) {
     wire::Framer framer(Protocol::V2);
     std::vector<wire::FramerEvent> events;
