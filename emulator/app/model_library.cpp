@@ -187,7 +187,7 @@ std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& na
   }
   // The firmware as the variant's name spells it ("52", not "052").
   const std::string firmware = name.substr(at + 1);
-  const auto spec = spec_of(*base->second);
+  auto spec = spec_of(*base->second);
   if (std::to_string(spec->firmware_version) == firmware) {
     return spec;
   }

@@ -321,6 +321,7 @@ TEST_CASE("Threads sharing a library get the one parsed model", "[app][library]"
   std::vector<std::shared_ptr<const model::ModelSpec>> variants(kThreads);
   {
     std::vector<std::jthread> threads;
+    threads.reserve(kThreads);
     for (int i = 0; i < kThreads; ++i) {
       threads.emplace_back([&, i] {
         found[i] = library.find("xl330-m288");
