@@ -48,6 +48,7 @@ class ModelLibrary {
   /// An empty library (load() makes a useful one).
   ModelLibrary();
   ~ModelLibrary();
+  /// A moved-from library may only be assigned to or destroyed.
   ModelLibrary(ModelLibrary&& other) noexcept;
   ModelLibrary& operator=(ModelLibrary&& other) noexcept;
   ModelLibrary(const ModelLibrary&) = delete;
