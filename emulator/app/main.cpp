@@ -379,7 +379,7 @@ void list_models(const std::vector<std::string>& model_dirs,
   const auto listed = library.select(filter);
   if (listed.empty()) {
     std::cerr << "dxlemu: no model matches" << filters_text(models) << " ("
-              << library.models().size() << " in the library)\n";
+              << library.names().size() << " in the library)\n";
     return;
   }
   std::cout << std::left << std::setw(18) << "NAME" << std::setw(8) << "NUMBER" << std::setw(10)

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cstdlib>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
 
@@ -39,27 +38,43 @@ std::shared_ptr<const model::ModelSpec> load_file(const fs::path& path) {
 
 }  // namespace
 
-// A catalog.json of `dir`: its models, each file relative to `dir`.
+// One model of the library: what its catalog entry (or, for a user's file, the file) says, and
+// once a lookup needed them, its parsed file and the firmware variants built from it.
+struct ModelLibrary::Entry {
+  model::CatalogEntry facts;
+  fs::path file;
+  /// The catalog that lists the model; empty for a user's file, which load() parses.
+  std::string catalog;
+  /// Null until the file is parsed. Guarded by ModelLibrary::mutex_, as `variants`.
+  std::shared_ptr<const model::ModelSpec> spec;
+  std::map<std::uint8_t, std::shared_ptr<const model::ModelSpec>> variants;
+
+  /// The file that states the entry's facts, for messages: the catalog, else the model file.
+  std::string origin() const { return catalog.empty() ? file.string() : catalog; }
+};
+
+ModelLibrary::ModelLibrary() : mutex_(std::make_unique<std::mutex>()) {}
+ModelLibrary::~ModelLibrary() = default;
+ModelLibrary::ModelLibrary(ModelLibrary&& other) noexcept = default;
+ModelLibrary& ModelLibrary::operator=(ModelLibrary&& other) noexcept = default;
+
+// A catalog.json of `dir`: its models, each file relative to `dir`. The files are only checked
+// to exist (a stat each: a catalog naming a missing file is refused at start, with its entry).
 void ModelLibrary::load_catalog(const fs::path& dir) {
   const fs::path catalog_path = dir / "catalog.json";
-  nlohmann::json catalog;
-  try {
-    catalog = nlohmann::json::parse(read_file(catalog_path));
-  } catch (const nlohmann::json::exception& e) {
-    throw model::ModelError(catalog_path.string(), "", std::string("not valid JSON: ") + e.what());
-  }
-  const auto* entries = catalog.contains("models") ? &catalog["models"] : nullptr;
-  if (entries == nullptr || !entries->is_array()) {
-    throw model::ModelError(catalog_path.string(), "/models", "must be an array");
-  }
-  for (std::size_t i = 0; i < entries->size(); ++i) {
-    const auto& entry = (*entries)[i];
-    if (!entry.is_object() || !entry.contains("file") || !entry["file"].is_string()) {
-      throw model::ModelError(catalog_path.string(), "/models/" + std::to_string(i) + "/file",
-                              "must be a string");
+  for (model::CatalogEntry& facts :
+       model::parse_catalog(read_file(catalog_path), catalog_path.string())) {
+    fs::path file = dir / facts.file;
+    std::error_code error;
+    if (!fs::is_regular_file(file, error)) {
+      throw model::ModelError(catalog_path.string(), facts.pointer + "/file",
+                              "names " + file.string() + ", which is not a file");
     }
-    const fs::path file = dir / entry["file"].get<std::string>();
-    add(load_file(file), file.string());
+    auto entry = std::make_unique<Entry>();
+    entry->facts = std::move(facts);
+    entry->file = std::move(file);
+    entry->catalog = catalog_path.string();
+    add(std::move(entry));
   }
 }
 
@@ -78,6 +93,8 @@ ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
   for (const fs::path& dir : maker_dirs) {
     library.load_catalog(dir);
   }
+  // The user's files are parsed now: they are few, and a mistake in one is best refused at
+  // once, whether or not this run uses that model.
   for (const fs::path& dir : extra_dirs) {
     if (!fs::is_directory(dir)) {
       throw model::ModelError(dir.string(), "", "is not a directory");
@@ -90,58 +107,94 @@ ModelLibrary ModelLibrary::load(const fs::path& shipped_dir,
     }
     std::sort(files.begin(), files.end());  // deterministic: directory order is not
     for (const fs::path& file : files) {
-      auto spec = load_file(file);
-      library.models_.erase(spec->name);  // a user's file replaces the shipped model of its name
-      library.add(std::move(spec), file.string());
-    }
-  }
-  for (const auto& [name, spec] : library.models_) {
-    for (const model::FirmwareVariant& variant : spec->firmware_variants) {
-      auto built = std::make_shared<const model::ModelSpec>(
-          *model::model_for_firmware(*spec, variant.firmware_version, library.origins_[name]));
-      std::string key = built->name;  // read before the pointer is moved into the map
-      library.variants_.emplace(std::move(key), std::move(built));
+      auto entry = std::make_unique<Entry>();
+      entry->spec = load_file(file);
+      entry->facts = model::catalog_entry_of(*entry->spec);
+      entry->file = file;
+      // A user's file replaces the shipped model of its name, and with it its variants.
+      library.entries_.erase(entry->facts.name);
+      library.add(std::move(entry));
     }
   }
   return library;
 }
 
-void ModelLibrary::add(std::shared_ptr<const model::ModelSpec> spec, const std::string& origin) {
-  for (const auto& [name, other] : models_) {
-    const bool declared =
-        spec->shares_model_number_with == name || other->shares_model_number_with == spec->name;
+void ModelLibrary::add(std::unique_ptr<Entry> entry) {
+  const model::CatalogEntry& facts = entry->facts;
+  for (const auto& [name, other] : entries_) {
+    const bool declared = facts.shares_model_number_with == name ||
+                          other->facts.shares_model_number_with == facts.name;
     // Model numbers are one maker's: FEETECH's 777 says nothing of a DYNAMIXEL 777.
-    if (other->model_number == spec->model_number && other->maker() == spec->maker() && !declared) {
-      throw model::ModelError(origin, "/model_number",
-                              "model number " + std::to_string(spec->model_number) +
-                                  " is already used by " + name + " (" + origins_.at(name) +
+    if (other->facts.model_number == facts.model_number && other->facts.maker() == facts.maker() &&
+        !declared) {
+      throw model::ModelError(entry->origin(), facts.pointer + "/model_number",
+                              "model number " + std::to_string(facts.model_number) +
+                                  " is already used by " + name + " (" + other->file.string() +
                                   "); a model that reports another's number names it in "
                                   "shares_model_number_with");
     }
   }
-  if (models_.count(spec->name) != 0) {
-    throw model::ModelError(origin, "/name", "a model named " + spec->name + " is already loaded");
+  if (entries_.count(facts.name) != 0) {
+    throw model::ModelError(entry->origin(), facts.pointer + "/name",
+                            "a model named " + facts.name + " is already loaded (" +
+                                entries_.at(facts.name)->file.string() + ")");
   }
-  origins_[spec->name] = origin;
-  models_.emplace(spec->name, std::move(spec));
+  std::string name = facts.name;  // read before the entry is moved into the map
+  entries_.emplace(std::move(name), std::move(entry));
+}
+
+std::shared_ptr<const model::ModelSpec> ModelLibrary::spec_of(Entry& entry) const {
+  if (!entry.spec) {
+    // Not kept on failure: every later lookup of the model reads the file again and throws the
+    // same refusal, so no caller meets a half-made model.
+    auto spec = load_file(entry.file);
+    model::check_against_catalog(*spec, entry.file.string(), entry.facts, entry.catalog);
+    entry.spec = std::move(spec);
+  }
+  return entry.spec;
+}
+
+std::shared_ptr<const model::ModelSpec> ModelLibrary::variant_of(Entry& entry,
+                                                                 std::uint8_t version) const {
+  auto base = spec_of(entry);
+  if (version == base->firmware_version) {
+    return base;  // NAME@VERSION of the model's own (default) firmware is the model itself
+  }
+  if (const auto it = entry.variants.find(version); it != entry.variants.end()) {
+    return it->second;
+  }
+  auto built = model::model_for_firmware(*base, version, entry.file.string());
+  if (!built) {
+    return nullptr;
+  }
+  auto variant = std::make_shared<const model::ModelSpec>(std::move(*built));
+  entry.variants.emplace(version, variant);
+  return variant;
 }
 
 std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& name) const {
-  if (const auto it = models_.find(name); it != models_.end()) {
-    return it->second;
+  const std::lock_guard lock(*mutex_);
+  if (const auto it = entries_.find(name); it != entries_.end()) {
+    return spec_of(*it->second);
   }
-  if (const auto it = variants_.find(name); it != variants_.end()) {
-    return it->second;
-  }
-  // NAME@VERSION of the model's own (default) firmware is the model itself.
   const auto at = name.rfind('@');
   if (at == std::string::npos) {
     return nullptr;
   }
-  const auto base = models_.find(name.substr(0, at));
-  if (base != models_.end() &&
-      std::to_string(base->second->firmware_version) == name.substr(at + 1)) {
-    return base->second;
+  const auto base = entries_.find(name.substr(0, at));
+  if (base == entries_.end()) {
+    return nullptr;
+  }
+  // The firmware as the variant's name spells it ("52", not "052").
+  const std::string firmware = name.substr(at + 1);
+  auto spec = spec_of(*base->second);
+  if (std::to_string(spec->firmware_version) == firmware) {
+    return spec;
+  }
+  for (const model::FirmwareVariant& v : spec->firmware_variants) {
+    if (std::to_string(v.firmware_version) == firmware) {
+      return variant_of(*base->second, v.firmware_version);
+    }
   }
   return nullptr;
 }
@@ -149,10 +202,11 @@ std::shared_ptr<const model::ModelSpec> ModelLibrary::find(const std::string& na
 std::string ModelLibrary::why_not_found(const std::string& name) const {
   const auto at = name.rfind('@');
   if (at != std::string::npos) {
-    const auto base = models_.find(name.substr(0, at));
-    if (base != models_.end()) {
+    const std::lock_guard lock(*mutex_);
+    const auto base = entries_.find(name.substr(0, at));
+    if (base != entries_.end()) {
       return base->first + " has no firmware \"" + name.substr(at + 1) +
-             "\" (known: " + model::firmware_list(*base->second) + ")";
+             "\" (known: " + model::firmware_list(*spec_of(*base->second)) + ")";
     }
   }
   return "unknown model \"" + name + "\" (dxlemu models lists them)";
@@ -161,12 +215,13 @@ std::string ModelLibrary::why_not_found(const std::string& name) const {
 std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::variants_of(
     const std::string& name) const {
   std::vector<std::shared_ptr<const model::ModelSpec>> out;
-  const auto base = models_.find(name);
-  if (base == models_.end()) {
+  const std::lock_guard lock(*mutex_);
+  const auto base = entries_.find(name);
+  if (base == entries_.end()) {
     return out;
   }
-  for (const model::FirmwareVariant& v : base->second->firmware_variants) {
-    out.push_back(variants_.at(name + "@" + std::to_string(v.firmware_version)));
+  for (const model::FirmwareVariant& v : spec_of(*base->second)->firmware_variants) {
+    out.push_back(variant_of(*base->second, v.firmware_version));
   }
   std::sort(out.begin(), out.end(),
             [](const auto& a, const auto& b) { return a->firmware_version > b->firmware_version; });
@@ -175,40 +230,64 @@ std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::variants_of(
 
 std::shared_ptr<const model::ModelSpec> ModelLibrary::find(std::uint16_t number,
                                                            model::Maker maker) const {
-  std::shared_ptr<const model::ModelSpec> sharing;
-  for (const auto& [name, spec] : models_) {
-    if (spec->model_number == number && spec->maker() == maker) {
-      if (spec->shares_model_number_with.empty()) {
-        return spec;
+  const std::lock_guard lock(*mutex_);
+  Entry* sharing = nullptr;
+  for (const auto& [name, entry] : entries_) {
+    if (entry->facts.model_number == number && entry->facts.maker() == maker) {
+      if (entry->facts.shares_model_number_with.empty()) {
+        return spec_of(*entry);
       }
-      sharing = spec;
+      sharing = entry.get();
     }
   }
-  return sharing;
+  return sharing != nullptr ? spec_of(*sharing) : nullptr;
+}
+
+std::vector<std::string> ModelLibrary::names() const {
+  std::vector<std::string> out;
+  out.reserve(entries_.size());
+  for (const auto& [name, entry] : entries_) {
+    out.push_back(name);
+  }
+  return out;
+}
+
+std::map<std::string, std::shared_ptr<const model::ModelSpec>> ModelLibrary::models() const {
+  std::map<std::string, std::shared_ptr<const model::ModelSpec>> out;
+  const std::lock_guard lock(*mutex_);
+  for (const auto& [name, entry] : entries_) {
+    out.emplace(name, spec_of(*entry));
+  }
+  return out;
 }
 
 std::vector<std::shared_ptr<const model::ModelSpec>> ModelLibrary::select(
     const ModelFilter& filter) const {
   std::vector<std::shared_ptr<const model::ModelSpec>> out;
-  for (const auto& [name, spec] : models_) {
-    if (filter.matches(*spec)) {
-      out.push_back(spec);
+  const std::lock_guard lock(*mutex_);
+  for (const auto& [name, entry] : entries_) {
+    if (filter.matches(entry->facts)) {
+      out.push_back(spec_of(*entry));
     }
   }
   return out;
 }
 
 bool ModelFilter::matches(const model::ModelSpec& spec) const {
-  if (family && spec.family != *family) {
+  return matches(model::catalog_entry_of(spec));
+}
+
+bool ModelFilter::matches(const model::CatalogEntry& entry) const {
+  if (family && entry.family != *family) {
     return false;
   }
-  if (protocol &&
-      std::find(spec.protocols.begin(), spec.protocols.end(), *protocol) == spec.protocols.end()) {
+  if (protocol && std::find(entry.protocols.begin(), entry.protocols.end(), *protocol) ==
+                      entry.protocols.end()) {
     return false;
   }
   const std::string fragment = lowercase(name_fragment);
-  return lowercase(spec.name).find(fragment) != std::string::npos ||
-         lowercase(spec.title).find(fragment) != std::string::npos;
+  return lowercase(entry.name).find(fragment) != std::string::npos ||
+         lowercase(entry.title).find(fragment) != std::string::npos;
 }
 
 fs::path shipped_data_dir(const char* env, const fs::path& bindir_relative, const fs::path& marker,

@@ -9,6 +9,7 @@
 
 #include "model/item_encoding.hpp"
 #include "model/json_node.hpp"
+#include "model/shared_fields.hpp"
 
 namespace dxlemu::model {
 namespace {
@@ -78,32 +79,6 @@ std::uint8_t read_sign_bit(const JsonNode& n, const ItemSpec& s) {
              "-byte item, got " + std::to_string(value));
   }
   return static_cast<std::uint8_t>(value);
-}
-
-// The protocols a model file may name. The only place that maps their JSON spelling to
-// wire::Protocol, so that a new protocol is one more case here (and in the schema).
-wire::Protocol read_protocol(const JsonNode& n) {
-  if (n.is_string()) {
-    if (n.string() == wire::protocol_name(wire::Protocol::Feetech)) {
-      return wire::Protocol::Feetech;
-    }
-    n.fail("unknown protocol \"" + n.string() + "\" (known: 1, 2, \"feetech\")");
-  }
-  return static_cast<wire::Protocol>(n.integer(1, 2));
-}
-
-// A FEETECH family speaks FEETECH's protocol only, a ROBOTIS family DYNAMIXEL's only: the
-// family's rules (status bits, response levels) are one maker's.
-void check_protocols_of_maker(const JsonNode& protocols, const ModelSpec& spec) {
-  const bool feetech_family = spec.maker() == Maker::Feetech;
-  for (std::size_t i = 0; i < spec.protocols.size(); ++i) {
-    if ((spec.protocols[i] == wire::Protocol::Feetech) != feetech_family) {
-      protocols.at(i).fail("a model of the " + std::string(maker_name(spec.maker())) +
-                           " family \"" + std::string(family_name(spec.family)) +
-                           "\" cannot speak " +
-                           std::string(wire::protocol_title(spec.protocols[i])));
-    }
-  }
 }
 
 // FEETECH defines the status bits 0, 1, 2, 3 and 5 (voltage, angle sensor, temperature, current,
@@ -524,25 +499,8 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     spec.shares_model_number_with = root.child("shares_model_number_with").string();
   }
   spec.firmware_version = static_cast<std::uint8_t>(root.at("firmware_version").integer(0, kU8));
-  const std::string family = root.at("family").string();
-  const auto f = family_from_name(family);
-  if (!f) {
-    root.at("family").fail("unknown family \"" + family + "\" (known: " + family_names() + ")");
-  }
-  spec.family = *f;
-
-  const JsonNode protocols = root.at("protocols");
-  for (std::size_t i = 0, n = protocols.array_size(); i < n; ++i) {
-    const wire::Protocol p = read_protocol(protocols.at(i));
-    if (std::find(spec.protocols.begin(), spec.protocols.end(), p) != spec.protocols.end()) {
-      protocols.at(i).fail("lists a protocol twice");
-    }
-    spec.protocols.push_back(p);
-  }
-  if (spec.protocols.empty()) {
-    protocols.fail("must list at least one protocol");
-  }
-  check_protocols_of_maker(protocols, spec);
+  spec.family = read_family(root.at("family"));
+  spec.protocols = read_protocols(root.at("protocols"), spec.family);
   spec.default_id = static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::kMaxIdV1));
 
   const JsonNode bauds = root.at("baud_rates");

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from model_converter.cli import REPO_ROOT, converter_arguments, dump, write_or_check
+from model_converter.cli import REPO_ROOT, catalog_entry, converter_arguments, dump, write_or_check
 
 from .builder import build_model
 from .decisions import MODELS
@@ -35,9 +35,7 @@ def build_all(reference: Path) -> dict[str, str]:
     files = {f"{m['name']}.json": dump(m) for m in models}
     # FEETECH's catalog, beside DYNAMIXEL's models/catalog.json (which the DYNAMIXEL converter
     # writes whole): the library loads every maker folder's catalog.json.
-    catalog = [{"name": m["name"], "title": m["title"], "model_number": m["model_number"],
-                "family": m["family"], "protocols": m["protocols"], "file": f"{m['name']}.json"}
-               for m in models]
+    catalog = [catalog_entry(m) for m in models]
     files["catalog.json"] = dump({"models": sorted(catalog, key=lambda c: c["name"])})
     return files
 

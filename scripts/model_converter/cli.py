@@ -24,6 +24,17 @@ def dump(obj) -> str:
     return json.dumps(obj, indent=2, ensure_ascii=False) + "\n"
 
 
+def catalog_entry(model: dict) -> dict:
+    """A model's entry in its catalog.json: what the emulator's library knows of it before it reads
+    the file (docs/model-format.md "The catalog"), so every member the library finds, lists,
+    filters or refuses duplicates by. The file must say the same; the library checks it."""
+    entry = {"name": model["name"], "title": model["title"], "model_number": model["model_number"]}
+    if "shares_model_number_with" in model:
+        entry["shares_model_number_with"] = model["shares_model_number_with"]
+    return {**entry, "family": model["family"], "protocols": model["protocols"],
+            "file": f"{model['name']}.json"}
+
+
 def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
     """All output files as {file name: text}."""
     available = set(ref.page_names())
@@ -51,8 +62,7 @@ def build_all(ref: Reference, quiet: bool) -> dict[str, str]:
         except (ValueError, AssertionError, KeyError) as exc:
             raise SystemExit(f"convert_models: {name}: {exc}")
         files[f"{name}.json"] = dump(model)
-        catalog.append({"name": name, "title": model["title"], "model_number": model["model_number"],
-                        "family": model["family"], "protocols": model["protocols"], "file": f"{name}.json"})
+        catalog.append(catalog_entry(model))
         n_notes = len(model["notes"]) + sum(1 for i in model["items"] if "note" in i)
         summary.append((name, model["family"], len(model["items"]), len(model["notes"]), n_notes, deviations))
     check_model_numbers(files)

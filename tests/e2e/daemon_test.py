@@ -7,11 +7,14 @@ bounds and generous upper ones: these machines are shared and noisy.
 """
 import json
 import os
+import shutil
 import signal
 import subprocess
 import tempfile
 import time
 import unittest
+from pathlib import Path
+from unittest import mock
 
 from dxl_client import (Control, Daemon, Port, assert_unanswered, dxlemu_command, heard, packet1,
                         packet2)
@@ -406,6 +409,72 @@ class DaemonTest(unittest.TestCase):
                 self.assertEqual(stderr, "")
             for text in expected:
                 self.assertIn(text, stderr)
+
+
+class ModelLibraryTest(unittest.TestCase):
+    """A start reads the model catalogs and parses only the model files it needs
+    (docs/model-format.md "The catalog"): over a copy of the shipped library in which every model
+    file but XM430-W350's is broken, a bus of XM430-W350 starts and serves, and a bus or config
+    naming a broken model is refused with exit status 2 and the file's refusal."""
+
+    SHIPPED = Path(__file__).resolve().parents[2] / "models"
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.addCleanup(self.dir.cleanup)
+        self.models = Path(self.dir.name) / "models"
+        shutil.copytree(self.SHIPPED, self.models)
+        for path in self.models.rglob("*.json"):
+            if path.name != "catalog.json" and path.parent.name != "schema" and path.stem != "xm430-w350":
+                path.write_text('{ "name": ')
+        # A file that parses but says another model number than its catalog entry.
+        xm430_w210 = json.loads((self.SHIPPED / "xm430-w210.json").read_text())
+        xm430_w210["model_number"] = 1
+        (self.models / "xm430-w210.json").write_text(json.dumps(xm430_w210))
+        patch = mock.patch.dict(os.environ, {"DXLEMU_MODELS_DIR": str(self.models)})
+        patch.start()
+        self.addCleanup(patch.stop)
+        self.link = os.path.join(self.dir.name, "dxl0")
+
+    def test_a_bus_of_one_model_starts_without_reading_the_others(self):
+        daemon = Daemon("--link", self.link, "--servo", "xm430-w350:1-3")
+        self.addCleanup(daemon.stop)
+        self.assertEqual(daemon.ready["servos"], [{"id": i, "model": "xm430-w350"} for i in (1, 2, 3)])
+        port = Port(self.link)
+        port.write(packet2(3, PING))
+        self.assertEqual(port.status2(), (3, 0, XM430_W350_PING))
+        port.close()
+        self.assertEqual(daemon.stop(), 0)
+
+    def test_run_and_check_refuse_a_broken_model_file_with_exit_code_2(self):
+        config = os.path.join(self.dir.name, "bus.json")
+        with open(config, "w") as f:
+            json.dump({"ports": [{"name": "dxl0", "link": self.link, "servos": [
+                {"model": "xm430-w350", "id": 1}, {"model": "ax-12a", "id": 2}]}]}, f)
+        broken = str(self.models / "ax-12a.json") + ": /: not valid JSON: "
+        disagrees = (str(self.models / "xm430-w210.json") + ": /model_number: is 1, but its entry in "
+                     + str(self.models / "catalog.json") + " (/models/")
+        for command, message in [(["run", "--link", self.link, "--servo", "ax-12a:1"], broken),
+                                 (["run", "--config", config], broken),
+                                 (["check", config], broken),
+                                 (["run", "--link", self.link, "--servo", "xl330-m288@52:1"],
+                                  str(self.models / "xl330-m288.json") + ": /: not valid JSON: "),
+                                 (["run", "--link", self.link, "--servo", "xm430-w210:1"], disagrees)]:
+            result = subprocess.run(dxlemu_command(*command), capture_output=True, text=True,
+                                    timeout=30)
+            self.assertEqual(result.returncode, 2, (command, result.stderr))
+            self.assertTrue(result.stderr.startswith("dxlemu: " + message), (command, result.stderr))
+            self.assertEqual(result.stdout, "")  # no readiness line: nothing started
+            self.assertFalse(os.path.lexists(self.link))
+
+    def test_models_lists_the_library_and_refuses_a_broken_file(self):
+        result = subprocess.run(dxlemu_command("models", "--name", "xm430-w350"),
+                                capture_output=True, text=True, timeout=30)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertRegex(result.stdout, r"xm430-w350 +1020 +2.0,1.0 +x")
+        result = subprocess.run(dxlemu_command("models"), capture_output=True, text=True, timeout=30)
+        self.assertEqual(result.returncode, 2)
+        self.assertRegex(result.stderr, r"^dxlemu: .*\.json: /: not valid JSON: ")
 
 
 if __name__ == "__main__":
