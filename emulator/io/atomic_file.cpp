@@ -13,12 +13,10 @@
 #include <system_error>
 #include <utility>
 
+#include "io/errno_error.hpp"
+
 namespace dxlemu::io {
 namespace {
-
-[[noreturn]] void fail(const std::string& what) {
-  throw std::system_error(errno, std::generic_category(), what);
-}
 
 // Closes the descriptor on every path out, and removes the temporary file unless renamed.
 struct TempFile {
@@ -74,7 +72,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   TempFile temp{path.string() + ".tmp." + std::to_string(::getpid())};
   temp.fd = ::open(temp.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (temp.fd < 0) {
-    fail("cannot create " + temp.path);
+    throw_errno("cannot create " + temp.path);
   }
   while (!content.empty()) {
     const ssize_t n = ::write(temp.fd, content.data(), content.size());
@@ -82,16 +80,16 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
       continue;
     }
     if (n < 0) {
-      fail("cannot write " + temp.path);
+      throw_errno("cannot write " + temp.path);
     }
     content.remove_prefix(static_cast<std::size_t>(n));
   }
   // Without fsync a power loss could leave the renamed file empty on some file systems.
   if (::fsync(temp.fd) != 0) {
-    fail("cannot flush " + temp.path);
+    throw_errno("cannot flush " + temp.path);
   }
   if (::rename(temp.path.c_str(), path.c_str()) != 0) {
-    fail("cannot rename " + temp.path + " to " + path.string());
+    throw_errno("cannot rename " + temp.path + " to " + path.string());
   }
   temp.renamed = true;
   // The rename is an entry in the directory: flush it too, or a power loss could bring back the

@@ -11,10 +11,11 @@
 #include <cstring>
 #include <system_error>
 
+#include "io/read_chunk.hpp"
+
 namespace dxlemu::io {
 namespace {
 
-constexpr std::size_t kReadChunk = 4096;
 constexpr std::string_view kSocketPrefix = "dxlemu-";
 constexpr std::string_view kSocketSuffix = ".sock";
 

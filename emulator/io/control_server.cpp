@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/read_chunk.hpp"
 #include "io/socket_file.hpp"
 
 namespace dxlemu::io {
@@ -25,7 +26,6 @@ namespace {
 
 using boost::asio::local::stream_protocol;
 
-constexpr std::size_t kReadChunk = 4096;
 // How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of file
 // descriptors). Retrying at once would spin, as the listening socket stays readable.
 constexpr std::chrono::milliseconds kAcceptRetry{100};

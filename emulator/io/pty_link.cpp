@@ -9,40 +9,37 @@
 #include <cstdlib>
 #include <system_error>
 
+#include "io/errno_error.hpp"
+#include "io/read_chunk.hpp"
 #include "io/tty_baud.hpp"
 
 namespace dxlemu::io {
 namespace {
 
-constexpr std::size_t kReadChunk = 4096;
 // Replies waiting for room in the PTY, at most: beyond it, a client that does not read loses
 // further replies, as a serial adapter's full receive buffer does, instead of the daemon keeping
 // them without limit and handing them over, stale, whenever the client reads again.
 constexpr std::size_t kMaxQueuedBytes = std::size_t{64} * 1024;
-
-[[noreturn]] void fail(const std::string& what) {
-  throw std::system_error(errno, std::generic_category(), what);
-}
 
 // Raw mode: no echo, no line discipline, no newline translation; the client may change any of
 // it, which the emulator accepts.
 void make_raw(int fd) {
   termios t{};
   if (tcgetattr(fd, &t) != 0) {
-    fail("tcgetattr on the PTY");
+    throw_errno("tcgetattr on the PTY");
   }
   cfmakeraw(&t);
   cfsetispeed(&t, B57600);  // the factory rate of most models, until the client sets its own
   cfsetospeed(&t, B57600);
   if (tcsetattr(fd, TCSANOW, &t) != 0) {
-    fail("tcsetattr on the PTY");
+    throw_errno("tcsetattr on the PTY");
   }
 }
 
 int open_master() {
   const int fd = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0 || grantpt(fd) != 0 || unlockpt(fd) != 0) {
-    fail("opening a pseudo-terminal");
+    throw_errno("opening a pseudo-terminal");
   }
   return fd;
 }
@@ -53,12 +50,12 @@ PtyLink::PtyLink(boost::asio::io_context& io, std::optional<std::filesystem::pat
     : master_(io, open_master()), link_(std::move(link)), read_buffer_(kReadChunk) {
   const char* name = ptsname(master_.native_handle());
   if (name == nullptr) {
-    fail("ptsname");
+    throw_errno("ptsname");
   }
   slave_path_ = name;
   slave_fd_ = ::open(slave_path_.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
   if (slave_fd_ < 0) {
-    fail("opening " + slave_path_);
+    throw_errno("opening " + slave_path_);
   }
   make_raw(slave_fd_);
   if (link_) {

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <system_error>
 
+#include "io/errno_error.hpp"
 #include "io/raw_serial.hpp"
 #include "wire/instruction_encoder.hpp"
 
@@ -16,16 +17,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-[[noreturn]] void fail(const std::string& what) {
-  throw std::system_error(errno, std::generic_category(), what);
-}
-
 }  // namespace
 
 SerialScanLink::SerialScanLink(const std::string& path)
     : path_(path), fd_(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC)) {
   if (fd_ < 0) {
-    fail("cannot open " + path);
+    throw_errno("cannot open " + path);
   }
 }
 
@@ -46,7 +43,7 @@ std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::Instruction
   while (sent < bytes.size()) {
     const ssize_t n = ::write(fd_, bytes.data() + sent, bytes.size() - sent);
     if (n < 0 && errno != EINTR && errno != EAGAIN) {
-      fail(path_ + ": write");
+      throw_errno(path_ + ": write");
     }
     sent += n > 0 ? static_cast<std::size_t>(n) : 0;
   }
@@ -64,7 +61,7 @@ std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::Instruction
     }
     const ssize_t n = ::read(fd_, buffer.data(), buffer.size());
     if (n < 0 && errno != EINTR && errno != EAGAIN) {
-      fail(path_ + ": read");
+      throw_errno(path_ + ": read");
     }
     if (n <= 0) {
       continue;

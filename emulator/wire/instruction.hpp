@@ -112,8 +112,12 @@ struct BulkReadTarget {
   bool operator==(const BulkReadTarget&) const = default;
 };
 
+/// The byte Protocol 1.0's Bulk Read parameters start with (protocol1.md "Bulk Read").
+inline constexpr std::uint8_t kV1BulkReadLeadByte = 0x00;
+
 /// Bulk Read (0x92): a different address and length per device. Protocol 1.0 lays the
-/// parameters out differently (0x00, then length, ID, address per device); the fields are the same.
+/// parameters out differently (kV1BulkReadLeadByte, then length, ID, address per device); the
+/// fields are the same.
 struct BulkRead {
   std::vector<BulkReadTarget> targets;
   bool operator==(const BulkRead&) const = default;

@@ -18,7 +18,6 @@ constexpr std::array<std::uint8_t, 4> kBackupMagic = {0x43, 0x54, 0x52, 0x4C};
 constexpr std::uint8_t kClearMultiTurn = 0x01;
 constexpr std::uint8_t kBackupStore = 0x01;
 constexpr std::uint8_t kBackupRestore = 0x02;
-constexpr std::uint8_t kV1BulkReadLeadByte = 0x00;
 
 // Reads parameter fields in order. Address and data-length fields are 1 byte in Protocol 1.0 and
 // FEETECH and 2 bytes (little-endian) in 2.0; everything else is a byte. Callers check

@@ -11,8 +11,6 @@
 namespace dxlemu::wire {
 namespace {
 
-constexpr std::uint8_t kV1BulkReadLeadByte = 0x00;
-
 // Writes parameter fields; the counterpart of the decoder's ParamReader. Address and length
 // fields take 1 byte in Protocol 1.0 and FEETECH and 2 bytes (little-endian) in 2.0.
 class ParamWriter {
