@@ -20,7 +20,7 @@ app::BusConfig parse(const std::string& text) {
 }
 
 // The message parse_config refuses `text` with.
-std::string refusal(const std::string& text) {
+std::string config_refusal(const std::string& text) {
   try {
     parse(text);
   } catch (const ConfigError& e) {
@@ -89,7 +89,7 @@ TEST_CASE("A config names a firmware as the command line does, NAME@FIRMWARE", "
   CHECK(variants[0]->name == "xl330-m288@52");
   CHECK(library().variants_of("xm335-t323").empty());
   // Indirect Address 21 exists only from V53.
-  CHECK_THAT(refusal(one_port(
+  CHECK_THAT(config_refusal(one_port(
                  R"({"model": "xl330-m288@52", "id": 1, "items": {"indirect_address_21": 132}})")),
              Catch::Contains("xl330-m288@52 has no item \"indirect_address_21\""));
 }
@@ -155,7 +155,7 @@ TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointe
   };
   for (const auto& [text, message] : cases) {
     INFO(text);
-    CHECK_THAT(refusal(text), Catch::StartsWith(message));
+    CHECK_THAT(config_refusal(text), Catch::StartsWith(message));
   }
 }
 
@@ -204,7 +204,7 @@ TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON poi
   };
   for (const auto& [text, message] : cases) {
     INFO(text);
-    CHECK(refusal(text) == message);
+    CHECK(config_refusal(text) == message);
   }
 }
 
@@ -231,10 +231,10 @@ TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",
   REQUIRE(config.ports[0].servos.size() == 3);
   CHECK(config.ports[0].servos[0].items ==
         std::vector<std::pair<std::string, std::int64_t>>{{"baud_rate", 0}});
-  CHECK(refusal(one_port(R"({"model": "xm430-w350", "ids": [1, 2]},
+  CHECK(config_refusal(one_port(R"({"model": "xm430-w350", "ids": [1, 2]},
                             {"model": "sts3215", "id": 3})")) ==
         "bus.json: /ports/0/servos/1: sts3215 is a FEETECH model, but xm430-w350 on the same "
         "port is ROBOTIS: a port speaks one maker's protocol (put them on separate ports)");
-  CHECK(refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")) ==
+  CHECK(config_refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")) ==
         "bus.json: /ports/0/servos/0/protocol: sts3215 cannot speak protocol 1");
 }

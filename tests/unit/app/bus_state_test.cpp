@@ -12,7 +12,7 @@ using namespace dxlemu;
 
 namespace {
 
-std::string refusal(const std::string& text) {
+std::string state_refusal(const std::string& text) {
   try {
     app::state_from_text(text, "state.json");
   } catch (const app::ConfigError& e) {
@@ -110,21 +110,23 @@ TEST_CASE("A state item the model cannot take is refused before anything is rest
 }
 
 TEST_CASE("A broken state file is refused naming the pointer and the reason", "[app][state]") {
-  CHECK_THAT(refusal("{\"format\""), Catch::StartsWith("state.json: /: not valid JSON"));
+  CHECK_THAT(state_refusal("{\"format\""), Catch::StartsWith("state.json: /: not valid JSON"));
   // A number too large for a double is nlohmann's out_of_range, not a parse_error.
-  CHECK_THAT(refusal(R"({"format": "dxlemu-state", "version": 1e999, "ports": {}})"),
+  CHECK_THAT(state_refusal(R"({"format": "dxlemu-state", "version": 1e999, "ports": {}})"),
              Catch::StartsWith("state.json: /: not valid JSON"));
-  CHECK(refusal(R"({"format": "x", "version": 1, "ports": {}})") ==
+  CHECK(state_refusal(R"({"format": "x", "version": 1, "ports": {}})") ==
         "state.json: /format: must be \"dxlemu-state\" (is this a dxlemu state file?)");
-  CHECK(refusal(R"({"format": "dxlemu-state", "version": 2, "ports": {}})") ==
+  CHECK(state_refusal(R"({"format": "dxlemu-state", "version": 2, "ports": {}})") ==
         "state.json: /version: must be 1");
-  CHECK(refusal(R"({"format": "dxlemu-state", "version": 1, "ports": []})") ==
+  CHECK(state_refusal(R"({"format": "dxlemu-state", "version": 1, "ports": []})") ==
         "state.json: /ports: must be an object of port names");
-  CHECK(refusal(R"({"format": "dxlemu-state", "version": 1, "ports": {"a": [{"eeprom": {}}]}})") ==
+  CHECK(state_refusal(
+            R"({"format": "dxlemu-state", "version": 1, "ports": {"a": [{"eeprom": {}}]}})") ==
         "state.json: /ports/a/0/model: must be a string");
-  CHECK(refusal(R"({"format": "dxlemu-state", "version": 1, "ports": {"a": [{"model": "m"}]}})") ==
+  CHECK(state_refusal(
+            R"({"format": "dxlemu-state", "version": 1, "ports": {"a": [{"model": "m"}]}})") ==
         "state.json: /ports/a/0/eeprom: must be an object of item keys and values");
-  CHECK(refusal(R"({"format": "dxlemu-state", "version": 1,
+  CHECK(state_refusal(R"({"format": "dxlemu-state", "version": 1,
                     "ports": {"a": [{"model": "m", "eeprom": {"id": "1"}}]}})") ==
         "state.json: /ports/a/0/eeprom/id: must be an integer");
   CHECK(app::state_from_text(R"({"format": "dxlemu-state", "version": 1, "ports": {}})", "s")

@@ -4,24 +4,23 @@
 #include <stdexcept>
 
 #include "app/ctl_request.hpp"
+#include "live_sockets.hpp"
 
 using namespace dxlemu;
 using Args = std::vector<std::string>;
 
 namespace {
 
+using test::finding;
+
 // The message ctl_request refuses `args` with.
-std::string refusal(const Args& args) {
+std::string request_refusal(const Args& args) {
   try {
     app::ctl_request("set", args);
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
   return "accepted";
-}
-
-app::LiveSocketFinder finding(const std::vector<std::filesystem::path>& live) {
-  return [live](const std::filesystem::path&) { return live; };
 }
 
 std::string socket_refusal(const std::vector<std::filesystem::path>& live) {
@@ -54,14 +53,14 @@ TEST_CASE("A JSON object argument has its members merged into the request", "[ap
 
 TEST_CASE("Arguments that are not key=value, repeat a key or set id or cmd are refused",
           "[app][ctl]") {
-  CHECK(refusal({"servo"}) == R"(argument "servo": expected key=value or a JSON object)");
-  CHECK(refusal({"[1]"}) == R"(argument "[1]": expected key=value or a JSON object)");
-  CHECK(refusal({"=3"}) == R"(argument "=3": the key before '=' is empty)");
-  CHECK(refusal({"servo=1", R"({"servo":2})"}) ==
+  CHECK(request_refusal({"servo"}) == R"(argument "servo": expected key=value or a JSON object)");
+  CHECK(request_refusal({"[1]"}) == R"(argument "[1]": expected key=value or a JSON object)");
+  CHECK(request_refusal({"=3"}) == R"(argument "=3": the key before '=' is empty)");
+  CHECK(request_refusal({"servo=1", R"({"servo":2})"}) ==
         R"(argument "{"servo":2}": "servo" is given twice)");
-  CHECK(refusal({"cmd=get"}) ==
+  CHECK(request_refusal({"cmd=get"}) ==
         R"(argument "cmd=get": "cmd" is set by dxlemu ctl (the command is the first argument))");
-  CHECK(refusal({"id=4"}).find("\"id\" is set by dxlemu ctl") != std::string::npos);
+  CHECK(request_refusal({"id=4"}).find("\"id\" is set by dxlemu ctl") != std::string::npos);
 }
 
 TEST_CASE("A successful reply prints its result as indented JSON in the daemon's order",

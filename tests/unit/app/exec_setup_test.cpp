@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "app/exec_setup.hpp"
+#include "live_sockets.hpp"
 
 using namespace dxlemu;
 namespace fs = std::filesystem;
@@ -11,11 +12,9 @@ using Paths = std::vector<std::string>;
 
 namespace {
 
-const fs::path kDir = "/run/user/1000";
+using test::finding;
 
-app::LiveSocketFinder finding(const std::vector<fs::path>& live) {
-  return [live](const fs::path&) { return live; };
-}
+const fs::path kDir = "/run/user/1000";
 
 // A daemon per socket: dxl0 at /dev/pts/N with link /tmp/dxlN, N the socket's number.
 nlohmann::json listing(const fs::path& socket) {
@@ -31,8 +30,9 @@ Paths paths_of(const app::ExecArguments& arguments, const std::vector<fs::path>&
   return app::exec_pty_paths(arguments, kDir, finding(live), listing, every_path_a_device);
 }
 
-std::string refusal(const app::ExecArguments& arguments, const app::CharacterDeviceTest& device,
-                    const app::PortLister& list = listing) {
+std::string exec_refusal(const app::ExecArguments& arguments,
+                         const app::CharacterDeviceTest& device,
+                         const app::PortLister& list = listing) {
   try {
     app::exec_pty_paths(arguments, kDir, finding({}), list, device);
   } catch (const std::invalid_argument& e) {
@@ -70,7 +70,7 @@ TEST_CASE("exec without --port or --control protects the ports of every running 
           "[app][exec]") {
   CHECK(paths_of({}, {kDir / "dxlemu-3.sock", kDir / "dxlemu-4.sock"}) ==
         Paths{"/dev/pts/3", "/tmp/dxl3", "/dev/pts/4", "/tmp/dxl4"});
-  CHECK(refusal({}, every_path_a_device) ==
+  CHECK(exec_refusal({}, every_path_a_device) ==
         "no dxlemu PTY to protect: no running dxlemu found (no live control socket "
         "/run/user/1000/dxlemu-*.sock); pass --port PATH or --control SOCKET");
 }
@@ -79,10 +79,10 @@ TEST_CASE("exec refuses a --port that is no character device or that DXLEMU_PTYS
           "[app][exec]") {
   app::ExecArguments arguments;
   arguments.ports = {"/tmp/missing"};
-  CHECK(refusal(arguments, [](const fs::path&) { return false; }) ==
+  CHECK(exec_refusal(arguments, [](const fs::path&) { return false; }) ==
         "--port /tmp/missing: not a character device (a dxlemu PTY or its link)");
   arguments.ports = {"/tmp/a:b"};
-  CHECK(refusal(arguments, every_path_a_device) ==
+  CHECK(exec_refusal(arguments, every_path_a_device) ==
         "--port /tmp/a:b: \"/tmp/a:b\" holds a ':', which separates the paths of DXLEMU_PTYS");
   // A relative --port is made absolute: the client may change directory.
   arguments.ports = {"dxl0"};
@@ -92,7 +92,7 @@ TEST_CASE("exec refuses a --port that is no character device or that DXLEMU_PTYS
 TEST_CASE("exec refuses a daemon that lists no ports", "[app][exec]") {
   app::ExecArguments arguments;
   arguments.controls = {"/s/dxlemu-1.sock"};
-  CHECK(refusal(arguments, every_path_a_device, [](const fs::path&) {
+  CHECK(exec_refusal(arguments, every_path_a_device, [](const fs::path&) {
           return nlohmann::json{{"ports", nlohmann::json::array()}};
         }) == "the daemon at /s/dxlemu-1.sock reports no ports");
 }

@@ -84,7 +84,7 @@ void copy_models(const fs::path& dir, const std::vector<std::string>& names) {
 
 // The message of the model::ModelError `lookup` throws, or "no refusal".
 template <class Lookup>
-std::string refusal(Lookup lookup) {
+std::string lookup_refusal(Lookup lookup) {
   try {
     lookup();
   } catch (const model::ModelError& e) {
@@ -117,10 +117,11 @@ TEST_CASE("A start parses no shipped model file, and a lookup parses only the mo
   CHECK(library.select(x_family).size() == 2);
   // The broken file is refused naming it when a lookup first needs it, and on every later one.
   const std::string message = broken.string() + ": /: not valid JSON: ";
-  CHECK_THAT(refusal([&] { library.find("ax-12a"); }), Catch::StartsWith(message));
-  CHECK_THAT(refusal([&] { library.find("ax-12a"); }), Catch::StartsWith(message));
-  CHECK_THAT(refusal([&] { library.find(12, model::Maker::Robotis); }), Catch::StartsWith(message));
-  CHECK_THAT(refusal([&] { library.models(); }), Catch::StartsWith(message));
+  CHECK_THAT(lookup_refusal([&] { library.find("ax-12a"); }), Catch::StartsWith(message));
+  CHECK_THAT(lookup_refusal([&] { library.find("ax-12a"); }), Catch::StartsWith(message));
+  CHECK_THAT(lookup_refusal([&] { library.find(12, model::Maker::Robotis); }),
+             Catch::StartsWith(message));
+  CHECK_THAT(lookup_refusal([&] { library.models(); }), Catch::StartsWith(message));
   CHECK(library.find("xm430-w350") == spec);
 }
 
@@ -140,7 +141,7 @@ TEST_CASE("Firmware variants are built when first asked for, and kept", "[app][l
   CHECK(library.why_not_found("xl330-m288@51") ==
         "xl330-m288 has no firmware \"51\" (known: 53, 52)");
   // NAME@FIRMWARE needs the model's file: a broken one is refused, naming it.
-  CHECK_THAT(refusal([&] { library.find("xm430-w350@45"); }),
+  CHECK_THAT(lookup_refusal([&] { library.find("xm430-w350@45"); }),
              Catch::StartsWith((dir.path() / "xm430-w350.json").string() + ": /: not valid JSON"));
 }
 
@@ -162,7 +163,7 @@ TEST_CASE("A shipped file that says otherwise than its catalog entry is refused 
     write(file, model.dump(2));
     const auto library = app::ModelLibrary::load(dir.path(), {});
     const std::string catalog = (dir.path() / "catalog.json").string();
-    CHECK_THAT(refusal([&] { library.find("xm430-w350"); }),
+    CHECK_THAT(lookup_refusal([&] { library.find("xm430-w350"); }),
                Catch::StartsWith(file.string() + ": /" + member + ": is ") &&
                    Catch::Contains(", but its entry in " + catalog + " (/models/0) says ") &&
                    Catch::EndsWith("; the file and its entry must agree"));
@@ -172,7 +173,7 @@ TEST_CASE("A shipped file that says otherwise than its catalog entry is refused 
   json model = json::parse(slurp(dir.path() / "xm430-w350.json"));
   model["model_number"] = 1021;
   write(dir.path() / "xm430-w350.json", model.dump(2));
-  CHECK(refusal([&] { app::ModelLibrary::load(dir.path(), {}).find("xm430-w350"); }) ==
+  CHECK(lookup_refusal([&] { app::ModelLibrary::load(dir.path(), {}).find("xm430-w350"); }) ==
         (dir.path() / "xm430-w350.json").string() + ": /model_number: is 1021, but its entry in " +
             (dir.path() / "catalog.json").string() +
             " (/models/0) says 1020; the file and its entry must agree");
@@ -221,7 +222,7 @@ TEST_CASE("A start refuses a bad catalog naming the file, the JSON pointer and t
     write(dir.path() / "ax-12a.json", kBroken);
     write(dir.path() / "xm430-w350.json", kBroken);
     write(dir.path() / "catalog.json", catalog);
-    CHECK_THAT(refusal([&] { app::ModelLibrary::load(dir.path(), {}); }),
+    CHECK_THAT(lookup_refusal([&] { app::ModelLibrary::load(dir.path(), {}); }),
                Catch::StartsWith((dir.path() / "catalog.json").string() + ": " + message));
   }
 }
@@ -245,7 +246,7 @@ TEST_CASE("A maker folder's catalog is read at start, and a name in two catalogs
   catalog["models"][0]["model_number"] = 1;
   write(dir.path() / "feetech" / "catalog.json", catalog.dump());
   write(dir.path() / "feetech" / "xm430-w350.json", kBroken);
-  CHECK_THAT(refusal([&] { app::ModelLibrary::load(dir.path(), {}); }),
+  CHECK_THAT(lookup_refusal([&] { app::ModelLibrary::load(dir.path(), {}); }),
              Catch::StartsWith((dir.path() / "feetech" / "catalog.json").string() +
                                ": /models/0/name: a model named xm430-w350 is already loaded (" +
                                (dir.path() / "xm430-w350.json").string() + ")"));
@@ -267,14 +268,14 @@ TEST_CASE("The user's model files are parsed at start and replace the shipped mo
 
   // A user's file is refused at start, used or not.
   write(user.path() / "broken.json", kBroken);
-  CHECK_THAT(refusal([&] { app::ModelLibrary::load(shipped.path(), {user.path()}); }),
+  CHECK_THAT(lookup_refusal([&] { app::ModelLibrary::load(shipped.path(), {user.path()}); }),
              Catch::StartsWith((user.path() / "broken.json").string() + ": /: not valid JSON"));
   fs::remove(user.path() / "broken.json");
   // As is one claiming a shipped model's number, which the shipped entry says.
   model["name"] = "my-servo";
   model["model_number"] = 1020;
   write(user.path() / "my-servo.json", model.dump(2));
-  CHECK(refusal([&] { app::ModelLibrary::load(shipped.path(), {user.path()}); }) ==
+  CHECK(lookup_refusal([&] { app::ModelLibrary::load(shipped.path(), {user.path()}); }) ==
         (user.path() / "my-servo.json").string() +
             ": /model_number: model number 1020 is already used by xm430-w350 (" +
             (shipped.path() / "xm430-w350.json").string() +

@@ -9,11 +9,14 @@
 #include "app/bus_config.hpp"
 #include "app/physics_config.hpp"
 #include "physics/mjcf_world.hpp"
+#include "physics/physics_fixtures.hpp"
 
 using namespace dxlemu;
 using app::ConfigError;
 
 namespace {
+
+using test::kPendulum;
 
 const app::ModelLibrary& library() {
   static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
@@ -26,7 +29,7 @@ std::string with_physics(const std::string& physics) {
          physics + "}";
 }
 
-std::string refusal(const std::string& text) {
+std::string physics_refusal(const std::string& text) {
   try {
     app::parse_config(text, "bus.json", library());
   } catch (const ConfigError& e) {
@@ -34,8 +37,6 @@ std::string refusal(const std::string& text) {
   }
   return "accepted";
 }
-
-const std::string kPendulum = std::string(DXLEMU_EXAMPLES_DIR) + "/physics/pendulum.xml";
 
 }  // namespace
 
@@ -66,28 +67,29 @@ TEST_CASE("Every mistake in a physics object is refused with its pointer and rea
   const auto joint = [](const std::string& fields) {
     return with_physics(R"({"mjcf":"p.xml","joints":[{)" + fields + "}]}");
   };
-  CHECK(refusal(with_physics("[]")) == "bus.json: /physics: must be an object");
-  CHECK(refusal(with_physics(R"({"joints":[]})")) == "bus.json: /physics/mjcf: is required");
-  CHECK(refusal(with_physics(R"({"mjcf":"p.xml","joints":[]})")) ==
+  CHECK(physics_refusal(with_physics("[]")) == "bus.json: /physics: must be an object");
+  CHECK(physics_refusal(with_physics(R"({"joints":[]})")) ==
+        "bus.json: /physics/mjcf: is required");
+  CHECK(physics_refusal(with_physics(R"({"mjcf":"p.xml","joints":[]})")) ==
         "bus.json: /physics/joints: must be a non-empty array of joints");
-  CHECK(refusal(with_physics(R"({"mjcf":"p.xml","step":1,"joints":[]})")) ==
+  CHECK(physics_refusal(with_physics(R"({"mjcf":"p.xml","step":1,"joints":[]})")) ==
         "bus.json: /physics/step: unknown field (allowed: mjcf, timestep_ms, joints, "
         "description)");
-  CHECK(refusal(with_physics(R"({"mjcf":"p.xml","timestep_ms":0,"joints":[]})")) ==
+  CHECK(physics_refusal(with_physics(R"({"mjcf":"p.xml","timestep_ms":0,"joints":[]})")) ==
         "bus.json: /physics/timestep_ms: must be more than 0 and at most 100 ms");
-  CHECK(refusal(joint(R"("port":"leg","id":1,"joint":"j")")) ==
+  CHECK(physics_refusal(joint(R"("port":"leg","id":1,"joint":"j")")) ==
         "bus.json: /physics/joints/0/port: no port is called \"leg\"");
-  CHECK(refusal(joint(R"("port":"arm","id":2,"joint":"j")")) ==
+  CHECK(physics_refusal(joint(R"("port":"arm","id":2,"joint":"j")")) ==
         "bus.json: /physics/joints/0/id: port arm has no servo 2");
-  CHECK(refusal(joint(R"("port":"arm","id":1)")) ==
+  CHECK(physics_refusal(joint(R"("port":"arm","id":1)")) ==
         "bus.json: /physics/joints/0/joint: is required");
-  CHECK(refusal(joint(R"("port":"arm","id":1,"joint":"j","gear":0)")) ==
+  CHECK(physics_refusal(joint(R"("port":"arm","id":1,"joint":"j","gear":0)")) ==
         "bus.json: /physics/joints/0/gear: must be more than 0 (shaft turns per joint turn)");
-  CHECK(refusal(joint(R"("port":"arm","id":1,"joint":"j","direction":2)")) ==
+  CHECK(physics_refusal(joint(R"("port":"arm","id":1,"joint":"j","direction":2)")) ==
         "bus.json: /physics/joints/0/direction: must be 1 or -1");
-  CHECK(refusal(joint(R"("port":"arm","id":1,"joint":"j","zero_offset_deg":"up")")) ==
+  CHECK(physics_refusal(joint(R"("port":"arm","id":1,"joint":"j","zero_offset_deg":"up")")) ==
         "bus.json: /physics/joints/0/zero_offset_deg: must be a number");
-  CHECK(refusal(with_physics(R"({"mjcf":"p.xml","joints":[
+  CHECK(physics_refusal(with_physics(R"({"mjcf":"p.xml","joints":[
       {"port":"arm","id":1,"joint":"a"},{"port":"arm","id":1,"joint":"b"}]})")) ==
         "bus.json: /physics/joints/1: servo 1 of port arm already drives a joint");
 }
@@ -124,7 +126,7 @@ TEST_CASE("The MJCF file of a config file is found beside it", "[app][config][ph
 
 TEST_CASE("A build without MuJoCo refuses a config asking for physics", "[app][config][physics]") {
   CHECK_FALSE(physics::mujoco_available());
-  CHECK(refusal(with_physics(R"({"mjcf":"p.xml","joints":[]})")) ==
+  CHECK(physics_refusal(with_physics(R"({"mjcf":"p.xml","joints":[]})")) ==
         "bus.json: /physics: this build of dxlemu has no MuJoCo, so it cannot simulate physics "
         "(rebuild with Debian's libmujoco-dev installed and -DDXLEMU_MUJOCO=ON, "
         "docs/physics.md)");

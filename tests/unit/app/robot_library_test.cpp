@@ -25,7 +25,7 @@ const app::RobotLibrary& shipped() {
 }
 
 // The message parse_config refuses `text` with, as file robot.json.
-std::string refusal(const std::string& text) {
+std::string profile_refusal(const std::string& text) {
   try {
     app::parse_config(text, "robot.json", models());
   } catch (const ConfigError& e) {
@@ -92,20 +92,20 @@ TEST_CASE("A robot header is parsed into the config and a plain config has none"
 TEST_CASE("A bad robot header is refused naming the file, the JSON pointer and the reason",
           "[app][robots]") {
   const std::string source = R"("sources":["https://example.org/a.yaml"])";
-  CHECK(refusal(with_header("[]")) == "robot.json: /robot: must be an object");
-  CHECK(refusal(with_header(R"({"title":"t",)" + source + "}")) ==
+  CHECK(profile_refusal(with_header("[]")) == "robot.json: /robot: must be an object");
+  CHECK(profile_refusal(with_header(R"({"title":"t",)" + source + "}")) ==
         "robot.json: /robot/name: is required");
-  CHECK(refusal(with_header(R"({"name":"Arm","title":"t",)" + source + "}")) ==
+  CHECK(profile_refusal(with_header(R"({"name":"Arm","title":"t",)" + source + "}")) ==
         "robot.json: /robot/name: must be 1 to 40 lowercase letters, digits, '_', '.' or '-', "
         "not starting with '.'");
-  CHECK(refusal(with_header(R"({"name":"a","title":"t","sources":[]})")) ==
+  CHECK(profile_refusal(with_header(R"({"name":"a","title":"t","sources":[]})")) ==
         "robot.json: /robot/sources: must be a non-empty array of strings");
-  CHECK(refusal(with_header(R"({"name":"a","title":"t","sources":["wx250.yaml"]})")) ==
+  CHECK(profile_refusal(with_header(R"({"name":"a","title":"t","sources":["wx250.yaml"]})")) ==
         "robot.json: /robot/sources/0: must be a URL (https://...) of the public file the facts "
         "come from");
-  CHECK(refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"notes":[1]})")) ==
+  CHECK(profile_refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"notes":[1]})")) ==
         "robot.json: /robot/notes/0: must be a non-empty string");
-  CHECK(refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"baud":1})")) ==
+  CHECK(profile_refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"baud":1})")) ==
         "robot.json: /robot/baud: unknown field (allowed: name, title, sources, software, notes, "
         "description)");
 }

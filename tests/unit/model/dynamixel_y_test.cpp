@@ -13,6 +13,7 @@
 
 #include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "status_bytes.hpp"
 #include "table_access.hpp"
 
 using namespace dxlemu;
@@ -21,14 +22,16 @@ using model::Servo;
 
 namespace {
 
+using test::kAlert;
+using test::kDataRange;
+using test::kInPosition;
+using test::kResultFail;
+
 const fs::path kModels(DXLEMU_MODELS_DIR);
 
 // Status error numbers (protocol2.md "Status Packet"): the low 7 bits of the error byte.
-constexpr std::uint8_t kResultFail = 0x01;
-constexpr std::uint8_t kDataRange = 0x04;
 constexpr std::uint8_t kDataLimit = 0x06;
 constexpr std::uint8_t kErrorNumber = 0x7F;
-constexpr std::uint8_t kAlert = 0x80;
 
 // Controller State(152) and Hybrid Save(170) values.
 constexpr std::int64_t kInverterOff = 2;
@@ -38,7 +41,6 @@ constexpr std::int64_t kHybridChanged = 0;
 constexpr std::int64_t kHybridSaved = 2;
 
 // Moving Status(541) bits.
-constexpr std::int64_t kInPosition = 0x01;
 constexpr std::int64_t kMovingBit = 0x04;
 constexpr std::int64_t kPositionInRange = 0x40;
 
@@ -51,8 +53,8 @@ std::shared_ptr<const model::ModelSpec> load(const std::string& name) {
 }
 
 /// One Y servo on a hand-advanced clock, driven by Protocol 2.0 instructions.
-struct Bench {
-  explicit Bench(const std::string& name = "ym070-210-r051-rh") : servo(load(name), 1) {
+struct YBench {
+  explicit YBench(const std::string& name = "ym070-210-r051-rh") : servo(load(name), 1) {
     servo.advance_to(now);
   }
 
@@ -107,7 +109,7 @@ TEST_CASE("Every DYNAMIXEL-Y model is family y and speaks Protocol 2.0 as its 2.
       {"ym080-230-r099-rh", 4150}, {"ym080-230-a051-rh", 4160}, {"ym080-230-a099-rh", 4170}};
   for (const auto& [name, number] : numbers) {
     CAPTURE(name);
-    Bench b(name);
+    YBench b(name);
     CHECK(b.servo.spec().family == model::Family::Y);
     CHECK(b.servo.spec().protocols == std::vector<wire::Protocol>{wire::Protocol::V2});
     CHECK(b.read("model_number") == number);  // not the Modbus number (4041 etc.)
@@ -120,7 +122,7 @@ TEST_CASE("Every DYNAMIXEL-Y model is family y and speaks Protocol 2.0 as its 2.
 }
 
 TEST_CASE("Y Operating Mode takes 0, 1 and 3, each driven by its own goal item", "[model][y]") {
-  Bench b;
+  YBench b;
   CHECK((b.write("operating_mode", 2) & kErrorNumber) == kDataRange);  // no mode 2
   CHECK((b.write("operating_mode", 4) & kErrorNumber) == kDataRange);  // no extended mode
   CHECK(b.read("operating_mode") == 3);
@@ -167,7 +169,7 @@ TEST_CASE("Y Operating Mode takes 0, 1 and 3, each driven by its own goal item",
 
 TEST_CASE("Y time-based profiles take Profile Time and Profile Acceleration Time, in 0.2 ms",
           "[model][y]") {
-  Bench b;
+  YBench b;
   constexpr std::int64_t kTimeBased = 0x04;  // Drive Mode bit 2
   constexpr std::int64_t kProfileOngoing = 0x02;
   REQUIRE(b.write("drive_mode", kTimeBased) == 0);
@@ -209,7 +211,7 @@ TEST_CASE("Y time-based profiles take Profile Time and Profile Acceleration Time
 }
 
 TEST_CASE("Y Present Input Voltage counts 0.01 V, its limits 0.1 V", "[model][y]") {
-  Bench b;
+  YBench b;
   CHECK(b.read("present_input_voltage") == 2400);  // 24 V
   b.supply(30.55);
   b.wait(10);
@@ -223,7 +225,7 @@ TEST_CASE("Y Present Input Voltage counts 0.01 V, its limits 0.1 V", "[model][y]
 
 TEST_CASE("Y Present Motor Temperature is the winding, Present Inverter Temperature stays",
           "[model][y]") {
-  Bench b;
+  YBench b;
   CHECK(b.read("present_motor_temperature") == 25);
   CHECK(b.read("present_inverter_temperature") == 25);
   b.servo.device_write(b.servo.table().index("present_motor_temperature"), 61);
@@ -235,7 +237,7 @@ TEST_CASE("Y Present Motor Temperature is the winding, Present Inverter Temperat
 }
 
 TEST_CASE("Y Controller State follows torque and errors", "[model][y]") {
-  Bench b;
+  YBench b;
   CHECK(b.read("controller_state") == kInverterOff);
   REQUIRE(b.write("torque_enable", 1) == 0);
   CHECK(b.read("controller_state") == kRunning);
@@ -249,7 +251,7 @@ TEST_CASE("Y Controller State follows torque and errors", "[model][y]") {
 
 TEST_CASE("Y errors set Error Code, keep a history, turn torque off and raise the Alert bit",
           "[model][y]") {
-  Bench b;
+  YBench b;
   REQUIRE(b.write("torque_enable", 1) == 0);
   b.supply(12);  // Low Voltage Error
   b.wait(10);
@@ -280,7 +282,7 @@ TEST_CASE("Y errors set Error Code, keep a history, turn torque off and raise th
 
 TEST_CASE("Y Hybrid items are written with torque on and kept over a reboot once saved",
           "[model][y]") {
-  Bench b;
+  YBench b;
   const std::int64_t factory = b.read("position_p_gain");
   REQUIRE(b.write("torque_enable", 1) == 0);
   // EEPROM is locked with torque on; the Hybrid area is not.
@@ -310,7 +312,7 @@ TEST_CASE("Y Hybrid items are written with torque on and kept over a reboot once
 }
 
 TEST_CASE("Y Moving Status says Position In Range and Moving besides the P bits", "[model][y]") {
-  Bench b;
+  YBench b;
   CHECK(b.read("moving_status") == kPositionInRange);
   // A Homing Offset beyond Max Position Limit (262,144) puts Present Position out of range.
   REQUIRE(b.write("homing_offset", 300000) == 0);
@@ -321,7 +323,7 @@ TEST_CASE("Y Moving Status says Position In Range and Moving besides the P bits"
 
 TEST_CASE("Y Clear resets the multi-turn position, only while the servo stands still",
           "[model][y]") {
-  Bench b;
+  YBench b;
   const auto clear = [&] {
     return b.servo
         .execute({wire::Protocol::V2, 1, wire::Clear{0x01, {0x44, 0x58, 0x4C, 0x22}}},
@@ -348,7 +350,7 @@ TEST_CASE("Y Clear resets the multi-turn position, only while the servo stands s
 }
 
 TEST_CASE("Y Realtime Tick counts milliseconds and wraps after 32,767", "[model][y]") {
-  Bench b;
+  YBench b;
   b.wait(995);
   CHECK(b.read("realtime_tick") == 1000);
   b.wait(32768);
@@ -357,7 +359,7 @@ TEST_CASE("Y Realtime Tick counts milliseconds and wraps after 32,767", "[model]
 
 TEST_CASE("Y Bus Watchdog is two bytes, reads -1 after it expires and sets Error Code 18",
           "[model][y]") {
-  Bench b;
+  YBench b;
   REQUIRE(b.write("torque_enable", 1) == 0);   // the watchdog runs while torque is on
   REQUIRE(b.write("bus_watchdog", 100) == 0);  // 2,000 ms
   CHECK(b.servo.bus_watchdog_period() == std::chrono::milliseconds(2000));

@@ -10,6 +10,7 @@
 
 #include "model/servo.hpp"
 #include "shipped_model.hpp"
+#include "status_bytes.hpp"
 
 using namespace dxlemu;
 using model::Servo;
@@ -19,11 +20,13 @@ using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
+using test::kAlert;
+using test::kDataRange;
+using test::kInPosition;
+using test::kResultFail;
+
 // Status error bytes (protocol2.md "Error"; protocol1.md "Error").
 constexpr std::uint8_t kOk = 0x00;
-constexpr std::uint8_t kResultFail = 0x01;
-constexpr std::uint8_t kDataRange = 0x04;
-constexpr std::uint8_t kAlert = 0x80;
 constexpr std::uint8_t kV1Overheating = 0x04;
 constexpr std::uint8_t kV1Overload = 0x20;
 
@@ -33,7 +36,6 @@ constexpr std::int64_t kPositionMode = 3;
 constexpr std::int64_t kExtendedMode = 4;
 constexpr std::int64_t kCurrentPositionMode = 5;
 constexpr std::int64_t kTimeBased = 0x04;
-constexpr std::int64_t kInPosition = 0x01;
 constexpr std::int64_t kProfileOngoing = 0x02;
 constexpr std::int64_t kFollowingError = 0x08;
 constexpr std::int64_t kTrapezoidal = 0x30;

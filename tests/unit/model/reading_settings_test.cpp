@@ -29,8 +29,8 @@ constexpr std::int64_t kDriveModeReverse = 0x01;
 constexpr double kBackDriveShare = 0.5;
 
 /// One servo on a hand-advanced clock, driven by bus instructions in the protocol it speaks.
-struct Bench {
-  explicit Bench(std::shared_ptr<const model::ModelSpec> spec) : servo(std::move(spec), 1) {
+struct ReadingBench {
+  explicit ReadingBench(std::shared_ptr<const model::ModelSpec> spec) : servo(std::move(spec), 1) {
     servo.advance_to(now);
   }
 
@@ -97,7 +97,7 @@ TEST_CASE("Present Position shows a new Homing Offset on the very next read, in 
     }
     INFO(spec->name << ": " << offset);
     families.insert(std::string(model::family_name(spec->family)));
-    Bench bench(spec);
+    ReadingBench bench(spec);
     const std::int64_t before = bench.read("present_position");
     // Offsets the item accepts (RH-P12-RN(A) takes 0 ~ 1,150 only).
     const model::ItemSpec& item = bench.item(offset);
@@ -122,7 +122,7 @@ TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on th
     }
     INFO(spec->name);
     families.insert(std::string(model::family_name(spec->family)));
-    Bench bench(spec);
+    ReadingBench bench(spec);
     const char* offset = offset_key(*spec);
     REQUIRE(offset != nullptr);
     REQUIRE(bench.write(offset, 500) == 0);
@@ -148,10 +148,10 @@ TEST_CASE("Drive Mode's reverse bit shows in Present Position and Velocity on th
 
 TEST_CASE("Homing Offset through Reg Write and Action shows at once too",
           "[model][motion][settings]") {
-  Bench bench(test::shipped_model("xl430-w250"));
+  ReadingBench bench(test::shipped_model("xl430-w250"));
   const std::int64_t before = bench.read("present_position");
   const model::ItemSpec& homing = bench.item("homing_offset");
-  REQUIRE(bench.execute(wire::RegWrite{homing.address, Bench::encode(homing, -1301)}) == 0);
+  REQUIRE(bench.execute(wire::RegWrite{homing.address, ReadingBench::encode(homing, -1301)}) == 0);
   CHECK(bench.read("present_position") == before);  // registered, not yet written
   REQUIRE(bench.execute(wire::Action{}) == 0);
   CHECK(bench.read("present_position") == before - 1301);
@@ -159,7 +159,7 @@ TEST_CASE("Homing Offset through Reg Write and Action shows at once too",
 
 TEST_CASE("A Homing Offset forced in device-side shows in Present Position at once",
           "[model][motion][settings]") {
-  Bench bench(test::shipped_model("xl330-m288"));
+  ReadingBench bench(test::shipped_model("xl330-m288"));
   REQUIRE(bench.write("torque_enable", 1) == 0);  // EEPROM locked: the bus cannot write it now
   bench.wait(3);
   const std::int64_t before = bench.read("present_position");

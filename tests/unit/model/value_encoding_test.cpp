@@ -74,7 +74,7 @@ std::shared_ptr<const model::ModelSpec> feetech_model(const std::string& order) 
 }
 
 // The error a modified FEETECH-style model raises, as "POINTER: REASON".
-std::string refusal(const std::function<void(json&)>& change) {
+std::string feetech_refusal(const std::function<void(json&)>& change) {
   json j = feetech_style("little");
   change(j);
   try {
@@ -243,35 +243,35 @@ TEST_CASE("The loader reads byte_order and sign_bit, with the encoding's full ra
 
 TEST_CASE("The loader refuses bad byte orders, sign bits and sign-magnitude ranges",
           "[model][encoding][loader]") {
-  CHECK(refusal([](json& j) { j["byte_order"] = "middle"; }) ==
+  CHECK(feetech_refusal([](json& j) { j["byte_order"] = "middle"; }) ==
         "/byte_order: must be \"little\" or \"big\", got \"middle\"");
-  CHECK(refusal([](json& j) { j["byte_order"] = 1; }) == "/byte_order: must be a string");
-  CHECK(refusal([](json& j) { item(j, "running_speed")["sign_bit"] = 16; }) ==
+  CHECK(feetech_refusal([](json& j) { j["byte_order"] = 1; }) == "/byte_order: must be a string");
+  CHECK(feetech_refusal([](json& j) { item(j, "running_speed")["sign_bit"] = 16; }) ==
         "/items/22/sign_bit: must be 1 ~ 15 for a 2-byte item, got 16");
-  CHECK(refusal([](json& j) { item(j, "running_speed")["sign_bit"] = 0; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "running_speed")["sign_bit"] = 0; }) ==
         "/items/22/sign_bit: must be 1 ~ 15 for a 2-byte item, got 0");
-  CHECK(refusal([](json& j) { item(j, "present_load")["signed"] = true; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "present_load")["signed"] = true; }) ==
         "/items/23/sign_bit: cannot be given with \"signed\": true (sign-magnitude or two's "
         "complement, not both)");
-  CHECK(refusal([](json& j) { item(j, "present_load")["min"] = -1024; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "present_load")["min"] = -1024; }) ==
         "/items/23/min: must be between -1023 and 1023, got -1024");
-  CHECK(refusal([](json& j) { item(j, "present_load")["initial"] = 1024; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "present_load")["initial"] = 1024; }) ==
         "/items/23/initial: must be between -1023 and 1023, got 1024");
-  CHECK(refusal([](json& j) { item(j, "pwm_speed")["initial"] = -1001; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "pwm_speed")["initial"] = -1001; }) ==
         "/items/24/initial: value -1001 is outside the item's range");
-  CHECK(refusal([](json& j) { item(j, "running_speed")["sign_bit"] = "15"; }) ==
+  CHECK(feetech_refusal([](json& j) { item(j, "running_speed")["sign_bit"] = "15"; }) ==
         "/items/22/sign_bit: must be an integer");
 }
 
 TEST_CASE("The loader names an unknown protocol and the ones it knows", "[model][loader]") {
-  CHECK(refusal([](json& j) { j["protocols"] = {"modbus"}; }) ==
+  CHECK(feetech_refusal([](json& j) { j["protocols"] = {"modbus"}; }) ==
         "/protocols/0: unknown protocol \"modbus\" (known: 1, 2, \"feetech\")");
-  CHECK(refusal([](json& j) { j["protocols"] = {3}; }) ==
+  CHECK(feetech_refusal([](json& j) { j["protocols"] = {3}; }) ==
         "/protocols/0: must be between 1 and 2, got 3");
   // A DYNAMIXEL family speaks no FEETECH, and the reverse (docs/feetech.md "One maker per port").
-  CHECK(refusal([](json& j) { j["protocols"] = {"feetech"}; }) ==
+  CHECK(feetech_refusal([](json& j) { j["protocols"] = {"feetech"}; }) ==
         "/protocols/0: a model of the ROBOTIS family \"x\" cannot speak FEETECH");
-  CHECK(refusal([](json& j) { j["family"] = "sts"; }) ==
+  CHECK(feetech_refusal([](json& j) { j["family"] = "sts"; }) ==
         "/protocols/0: a model of the FEETECH family \"sts\" cannot speak Protocol 2.0");
 }
 
@@ -308,16 +308,16 @@ TEST_CASE("refusal_bits: FEETECH models only, never a bit FEETECH defines",
     j["family"] = "sts";
     j["protocols"] = {"feetech"};
   };
-  CHECK(refusal([](json& j) {
+  CHECK(feetech_refusal([](json& j) {
           j["refusal_bits"] = {{"checksum", 16}};
         }) == "/refusal_bits: is a setting of FEETECH models only");
-  CHECK(refusal([&](json& j) {
+  CHECK(feetech_refusal([&](json& j) {
           as_feetech(j);
           j["refusal_bits"] = {{"range", 8}};
         }) ==
         "/refusal_bits/range: uses a bit FEETECH defines for a hardware error (1, 2, 4, 8, "
         "32 are taken)");
-  CHECK(refusal([&](json& j) {
+  CHECK(feetech_refusal([&](json& j) {
           as_feetech(j);
           j["refusal_bits"] = {{"angle", 64}};
         }).rfind("/refusal_bits/angle: ", 0) == 0);

@@ -14,14 +14,16 @@
 #include <vector>
 
 #include "arm_rig.hpp"
+#include "physics/physics_fixtures.hpp"
 
 using namespace dxlemu;
 using std::chrono::milliseconds;
 
 namespace {
 
+using test::kPulsesPerRad;
+
 const std::string kRobots = DXLEMU_ROBOTS_DIR;
-constexpr double kPulsesPerRad = 4096 / (2 * std::numbers::pi);
 constexpr std::int64_t kCentre = 2048;  // Present Position at every joint's zero
 // Long enough for every joint to reach its goal and settle (the slowest, damped, takes < 1 s).
 constexpr milliseconds kSettle{3000};

@@ -14,6 +14,7 @@
 
 #include "model/servo.hpp"
 #include "physics/mjcf_world.hpp"
+#include "physics/physics_fixtures.hpp"
 #include "physics/world_clock.hpp"
 #include "shipped_model.hpp"
 
@@ -22,7 +23,8 @@ using std::chrono::milliseconds;
 
 namespace {
 
-const std::string kPendulum = std::string(DXLEMU_EXAMPLES_DIR) + "/physics/pendulum.xml";
+using test::kLevel;
+using test::kPendulum;
 
 // The pendulum as its MJCF states it.
 constexpr double kMassKg = 0.5;
@@ -35,7 +37,6 @@ constexpr double kLimitRad = 60 * std::numbers::pi / 180;
 constexpr double kCurrentUnitA = 0.00269;
 constexpr double kVelocityUnitRadS = 0.229 * 2 * std::numbers::pi / 60;
 constexpr double kPulsesPerRev = 4096;
-constexpr std::int64_t kLevel = 2048;       // Present Position with the link level
 constexpr std::int64_t kHwOverload = 0x20;  // Hardware Error Status: Overload Error
 
 /// The pendulum world and one XM430-W350 on its shoulder, stepped on a virtual clock.

@@ -14,6 +14,7 @@
 #include "api_requests.hpp"
 #include "control/api.hpp"
 #include "physics/mjcf_world.hpp"
+#include "physics/physics_fixtures.hpp"
 #include "ports_target.hpp"
 
 using namespace dxlemu;
@@ -22,12 +23,13 @@ using std::chrono::milliseconds;
 
 namespace {
 
-const std::string kPendulum = std::string(DXLEMU_EXAMPLES_DIR) + "/physics/pendulum.xml";
+using test::kLevel;
+using test::kPendulum;
+using test::kPulsesPerRad;
+
 constexpr double kStopRad = 60 * std::numbers::pi / 180;
 // Gravity's torque on the link at angle q is m*g*l*cos(q), towards positive angles.
 constexpr double kMgl = 0.5 * 9.81 * 0.1;
-constexpr std::int64_t kLevel = 2048;  // Present Position with the link level
-constexpr double kPulsesPerRad = 4096 / (2 * std::numbers::pi);
 
 struct Rig : test::ApiRequests<Rig> {
   // Outlives the servo coupled to it.

@@ -27,8 +27,8 @@ wire::Frame frame(Protocol protocol, std::uint8_t instruction, Bytes params) {
   return f;
 }
 
-// "error <kind>: <reason>" or the description of what decoded.
-std::string decoded(Protocol protocol, std::uint8_t instruction, Bytes params) {
+// "error <kind>: <reason>", or the description of what decoded.
+std::string outcome(Protocol protocol, std::uint8_t instruction, Bytes params) {
   const auto result = wire::decode_instruction(frame(protocol, instruction, std::move(params)));
   if (const auto* e = std::get_if<wire::DecodeError>(&result)) {
     const char* kind = e->kind == wire::DecodeErrorKind::BadLength ? "bad_length" : "bad_value";
@@ -37,8 +37,8 @@ std::string decoded(Protocol protocol, std::uint8_t instruction, Bytes params) {
   return wire::describe(std::get<wire::InstructionPacket>(result));
 }
 
-std::string decoded(std::uint8_t instruction, Bytes params) {
-  return decoded(kFt, instruction, std::move(params));
+std::string outcome(std::uint8_t instruction, Bytes params) {
+  return outcome(kFt, instruction, std::move(params));
 }
 
 std::string encode_error(const wire::InstructionPacket& packet) {
@@ -53,84 +53,84 @@ std::string encode_error(const wire::InstructionPacket& packet) {
 }  // namespace
 
 TEST_CASE("FEETECH instructions without parameters refuse any", "[wire][feetech][decode]") {
-  CHECK(decoded(0x01, {0x00}) ==
+  CHECK(outcome(0x01, {0x00}) ==
         "error bad_length: ping needs no parameters, got 1 parameter bytes");
-  CHECK(decoded(0x05, {0x01}) ==
+  CHECK(outcome(0x05, {0x01}) ==
         "error bad_length: action needs no parameters, got 1 parameter bytes");
-  CHECK(decoded(0x06, {0xFF}) ==
+  CHECK(outcome(0x06, {0xFF}) ==
         "error bad_length: parameter_recovery needs no parameters, got 1 parameter bytes");
-  CHECK(decoded(0x08, {0x01, 0x02}) ==
+  CHECK(outcome(0x08, {0x01, 0x02}) ==
         "error bad_length: reboot needs no parameters, got 2 parameter bytes");
-  CHECK(decoded(0x09, {0x01}) ==
+  CHECK(outcome(0x09, {0x01}) ==
         "error bad_length: parameter_backup needs no parameters, got 1 parameter bytes");
-  CHECK(decoded(0x0A, {0x01}) ==
+  CHECK(outcome(0x0A, {0x01}) ==
         "error bad_length: status_reset needs no parameters, got 1 parameter bytes");
 }
 
 TEST_CASE("FEETECH Read takes a one-byte address and length", "[wire][feetech][decode]") {
-  CHECK(decoded(0x02, {0x38, 0x02}) == "id=1 read address=56 length=2");
-  CHECK(decoded(0x02, {0x38}) ==
+  CHECK(outcome(0x02, {0x38, 0x02}) == "id=1 read address=56 length=2");
+  CHECK(outcome(0x02, {0x38}) ==
         "error bad_length: read needs 2 bytes (address, length), got 1 parameter bytes");
-  CHECK(decoded(0x02, {0x38, 0x00, 0x02}) ==
+  CHECK(outcome(0x02, {0x38, 0x00, 0x02}) ==
         "error bad_length: read needs 2 bytes (address, length), got 3 parameter bytes");
-  CHECK(decoded(0x02, {0x38, 0x00}) == "error bad_value: read data length must be at least 1");
-  CHECK(decoded(0x02, {0xFF, 0xFF}) == "id=1 read address=255 length=255");
+  CHECK(outcome(0x02, {0x38, 0x00}) == "error bad_value: read data length must be at least 1");
+  CHECK(outcome(0x02, {0xFF, 0xFF}) == "id=1 read address=255 length=255");
 }
 
 TEST_CASE("FEETECH Write and Reg Write need an address and data", "[wire][feetech][decode]") {
-  CHECK(decoded(0x03, {0x28, 0x01}) == "id=1 write address=40 data=01");
-  CHECK(decoded(0x03, {0x28}) ==
+  CHECK(outcome(0x03, {0x28, 0x01}) == "id=1 write address=40 data=01");
+  CHECK(outcome(0x03, {0x28}) ==
         "error bad_length: write needs an address and at least 1 data byte, got 1 parameter bytes");
-  CHECK(decoded(0x03, {}) ==
+  CHECK(outcome(0x03, {}) ==
         "error bad_length: write needs an address and at least 1 data byte, got 0 parameter bytes");
-  CHECK(decoded(0x04, {0x2A}) ==
+  CHECK(outcome(0x04, {0x2A}) ==
         "error bad_length: reg_write needs an address and at least 1 "
         "data byte, got 1 parameter bytes");
-  CHECK(decoded(0x04, {0x2A, 0x00, 0x08}) == "id=1 reg_write address=42 data=00 08");
+  CHECK(outcome(0x04, {0x2A, 0x00, 0x08}) == "id=1 reg_write address=42 data=00 08");
 }
 
 TEST_CASE("FEETECH Position calibration takes nothing or a 16-bit position",
           "[wire][feetech][decode]") {
-  CHECK(decoded(0x0B, {}) == "id=1 position_calibration");
-  CHECK(decoded(0x0B, {0xFF, 0x0F}) == "id=1 position_calibration position=4095");
-  CHECK(decoded(0x0B, {0x00}) ==
+  CHECK(outcome(0x0B, {}) == "id=1 position_calibration");
+  CHECK(outcome(0x0B, {0xFF, 0x0F}) == "id=1 position_calibration position=4095");
+  CHECK(outcome(0x0B, {0x00}) ==
         "error bad_length: position_calibration needs no parameters or 2 "
         "bytes (position, low byte first), got 1 parameter bytes");
-  CHECK(decoded(0x0B, {0x00, 0x04, 0x00}) ==
+  CHECK(outcome(0x0B, {0x00, 0x04, 0x00}) ==
         "error bad_length: position_calibration needs no parameters or 2 bytes (position, low "
         "byte first), got 3 parameter bytes");
 }
 
 TEST_CASE("FEETECH Sync Read takes a one-byte address and length and at least one ID",
           "[wire][feetech][decode]") {
-  CHECK(decoded(0x82, {0x38, 0x02, 0x01}) == "id=1 sync_read address=56 length=2 ids=1");
-  CHECK(decoded(0x82, {0x38, 0x02}) ==
+  CHECK(outcome(0x82, {0x38, 0x02, 0x01}) == "id=1 sync_read address=56 length=2 ids=1");
+  CHECK(outcome(0x82, {0x38, 0x02}) ==
         "error bad_length: sync_read needs 2 bytes (address, "
         "length) and at least one ID, got 2 parameter bytes");
-  CHECK(decoded(0x82, {}) ==
+  CHECK(outcome(0x82, {}) ==
         "error bad_length: sync_read needs 2 bytes (address, length) and at "
         "least one ID, got 0 parameter bytes");
-  CHECK(decoded(0x82, {0x38, 0x00, 0x01}) ==
+  CHECK(outcome(0x82, {0x38, 0x00, 0x01}) ==
         "error bad_value: sync_read data length must be at least 1");
   // The 2.0 layout (two-byte address and length) reads as address 56, length 0: refused.
-  CHECK(decoded(0x82, {0x38, 0x00, 0x02, 0x00, 0x01}) ==
+  CHECK(outcome(0x82, {0x38, 0x00, 0x02, 0x00, 0x01}) ==
         "error bad_value: sync_read data length must be at least 1");
 }
 
 TEST_CASE("FEETECH Sync Write blocks must divide the parameters evenly",
           "[wire][feetech][decode]") {
-  CHECK(decoded(0x83, {0x2A, 0x02, 0x01, 0x00, 0x08, 0x02, 0xFF, 0x07}) ==
+  CHECK(outcome(0x83, {0x2A, 0x02, 0x01, 0x00, 0x08, 0x02, 0xFF, 0x07}) ==
         "id=1 sync_write address=42 length=2 [1: 00 08] [2: FF 07]");
-  CHECK(decoded(0x83, {0x2A, 0x02, 0x01, 0x00}) ==
+  CHECK(outcome(0x83, {0x2A, 0x02, 0x01, 0x00}) ==
         "error bad_length: sync_write blocks of 3 bytes (ID + 2 bytes) must divide the remaining "
         "2 bytes");
-  CHECK(decoded(0x83, {0x2A, 0x02}) ==
+  CHECK(outcome(0x83, {0x2A, 0x02}) ==
         "error bad_length: sync_write blocks of 3 bytes (ID + 2 "
         "bytes) must divide the remaining 0 bytes");
-  CHECK(decoded(0x83, {0x2A}) ==
+  CHECK(outcome(0x83, {0x2A}) ==
         "error bad_length: sync_write needs 2 bytes (address, length) and "
         "data blocks, got 1 parameter bytes");
-  CHECK(decoded(0x83, {0x2A, 0x00, 0x01}) ==
+  CHECK(outcome(0x83, {0x2A, 0x00, 0x01}) ==
         "error bad_value: sync_write data length must be at least 1");
 }
 
@@ -141,14 +141,14 @@ TEST_CASE(
   // DYNAMIXEL-only codes (Clear, Backup, Status, the Fast and Bulk instructions) and free codes.
   for (const std::uint8_t code : {0x00, 0x07, 0x0C, 0x10, 0x20, 0x55, 0x8A, 0x92, 0x93, 0x9A}) {
     INFO("code " << int{code});
-    CHECK(decoded(code, {0x01}).rfind("id=1 unknown instruction=", 0) == 0);
+    CHECK(outcome(code, {0x01}).rfind("id=1 unknown instruction=", 0) == 0);
   }
-  CHECK(decoded(0x92, {0x00, 0x02, 0x01, 0x1E}) ==
+  CHECK(outcome(0x92, {0x00, 0x02, 0x01, 0x1E}) ==
         "id=1 unknown instruction=0x92 params=00 02 01 1E");
   for (const Protocol dxl : {Protocol::V1, Protocol::V2}) {
     for (const std::uint8_t code : {0x09, 0x0A, 0x0B}) {
       INFO("code " << int{code});
-      CHECK(decoded(dxl, code, {}).rfind("id=1 unknown instruction=", 0) == 0);
+      CHECK(outcome(dxl, code, {}).rfind("id=1 unknown instruction=", 0) == 0);
     }
   }
 }

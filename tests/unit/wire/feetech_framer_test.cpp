@@ -17,18 +17,12 @@ using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
-constexpr auto kFt = Protocol::Feetech;
+using test::concat;
 
-Bytes concat(std::initializer_list<Bytes> parts) {
-  Bytes out;
-  for (const auto& p : parts) {
-    out.insert(out.end(), p.begin(), p.end());
-  }
-  return out;
-}
+constexpr auto kFeetech = Protocol::Feetech;
 
 std::vector<wire::FramerEvent> frame_all(const Bytes& stream) {
-  Framer framer(kFt);
+  Framer framer(kFeetech);
   std::vector<wire::FramerEvent> events;
   framer.feed(stream, SimTime{}, events);
   framer.expire(SimTime{} + 1s, events);
@@ -44,9 +38,9 @@ const Bytes kPing1 = {0xFF, 0xFF, 0x01, 0x02, 0x01, 0xFB};  // protocol-ft-scs.m
 }  // namespace
 
 TEST_CASE("The FEETECH frame format is Protocol 1.0's", "[wire][feetech][framer]") {
-  const auto ft = wire::FrameFormat::for_protocol(kFt);
+  const auto ft = wire::FrameFormat::for_protocol(kFeetech);
   const auto v1 = wire::FrameFormat::for_protocol(Protocol::V1);
-  CHECK(ft.protocol == kFt);
+  CHECK(ft.protocol == kFeetech);
   CHECK(ft.header == Bytes{0xFF, 0xFF});
   CHECK(ft.length_field_bytes == 1);
   CHECK(ft.min_length == 2);
@@ -64,7 +58,7 @@ TEST_CASE("A FEETECH packet with a wrong checksum is rejected, and the next one 
   CHECK(test::summary(events) == "bad_check(id=1) frame(id=1)");
   const auto errors = test::errors_of(events);
   REQUIRE(errors.size() == 1);
-  CHECK(errors[0].protocol == kFt);
+  CHECK(errors[0].protocol == kFeetech);
   CHECK(errors[0].instruction == std::uint8_t{0x01});
   CHECK(errors[0].raw == broken);
 }
@@ -73,11 +67,12 @@ TEST_CASE("FEETECH frames IDs 0 to 253 and the broadcast ID, and FF is no ID",
           "[wire][feetech][framer]") {
   for (const unsigned id : {0U, 1U, 252U, 253U, 254U}) {
     INFO("id " << id);
-    const auto ping = wire::encode_instruction({kFt, static_cast<std::uint8_t>(id), wire::Ping{}});
+    const auto ping =
+        wire::encode_instruction({kFeetech, static_cast<std::uint8_t>(id), wire::Ping{}});
     const auto frames = test::frames_of(frame_all(ping));
     REQUIRE(frames.size() == 1);
     CHECK(frames[0].id == id);
-    CHECK(frames[0].protocol == kFt);
+    CHECK(frames[0].protocol == kFeetech);
   }
   // FF FF FF 01 ...: the first FF is garbage, the frame starts at the last FF FF.
   CHECK(summary(concat({{0xFF}, kPing1})) == "garbage(1) frame(id=1)");
@@ -85,7 +80,7 @@ TEST_CASE("FEETECH frames IDs 0 to 253 and the broadcast ID, and FF is no ID",
 
 TEST_CASE("FF FF FD is a FEETECH packet to ID 253, not a 2.0 header", "[wire][feetech][framer]") {
   // A status from ID 253: FF FF FD 02 00 checksum.
-  const Bytes status = wire::encode_status({kFt, 0xFD, 0, {}});
+  const Bytes status = wire::encode_status({kFeetech, 0xFD, 0, {}});
   CHECK(status == Bytes{0xFF, 0xFF, 0xFD, 0x02, 0x00, 0x00});
   const auto frames = test::frames_of(frame_all(status));
   REQUIRE(frames.size() == 1);
@@ -102,7 +97,8 @@ TEST_CASE("FEETECH LENGTH must be 2 to 255", "[wire][feetech][framer]") {
   CHECK(summary(concat({{0xFF, 0xFF, 0x01, 0x01}, kPing1})) ==
         "impossible_length(id=1) frame(id=1)");
   // The longest packet: LENGTH 255, a write of 252 data bytes.
-  const Bytes longest = wire::encode_instruction({kFt, 1, wire::Write{0x00, Bytes(252, 0x11)}});
+  const Bytes longest =
+      wire::encode_instruction({kFeetech, 1, wire::Write{0x00, Bytes(252, 0x11)}});
   REQUIRE(longest[3] == 0xFF);
   const auto frames = test::frames_of(frame_all(longest));
   REQUIRE(frames.size() == 1);
@@ -114,7 +110,7 @@ TEST_CASE("FEETECH LENGTH must be 2 to 255", "[wire][feetech][framer]") {
 
 TEST_CASE("A partial FEETECH packet is dropped after 1.0's inter-byte timeout",
           "[wire][feetech][framer]") {
-  Framer framer(kFt);
+  Framer framer(kFeetech);
   std::vector<wire::FramerEvent> events;
   const std::span<const std::uint8_t> ping(kPing1);
   // A gap of exactly 100 ms still continues the packet.

@@ -20,17 +20,6 @@ using Bytes = std::vector<std::uint8_t>;
 namespace {
 
 // Frames one example delivered in a single chunk; exactly one frame and nothing else is expected.
-wire::Frame frame_one(const Bytes& bytes) {
-  Framer framer(Protocol::Feetech);
-  std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, SimTime{}, events);
-  INFO(test::summary(events));
-  REQUIRE(events.size() == 1);
-  REQUIRE(std::holds_alternative<wire::Frame>(events[0]));
-  REQUIRE(framer.buffered() == 0);
-  return std::get<wire::Frame>(events[0]);
-}
-
 Bytes all_examples() {
   Bytes out;
   for (const auto& e : test::feetech_examples()) {
@@ -63,7 +52,7 @@ TEST_CASE("FEETECH example instructions decode to the page's fields and re-encod
       continue;
     }
     INFO(e.section);
-    const wire::Frame frame = frame_one(e.bytes);
+    const wire::Frame frame = test::frame_one(Protocol::Feetech, e.bytes);
     CHECK(frame.protocol == Protocol::Feetech);
     const auto decoded = wire::decode_instruction(frame);
     REQUIRE(std::holds_alternative<wire::InstructionPacket>(decoded));
@@ -81,7 +70,7 @@ TEST_CASE("FEETECH example status frames decode to the page's fields and re-enco
       continue;
     }
     INFO(e.section);
-    const auto decoded = wire::decode_status(frame_one(e.bytes));
+    const auto decoded = wire::decode_status(test::frame_one(Protocol::Feetech, e.bytes));
     REQUIRE(std::holds_alternative<wire::StatusPacket>(decoded));
     const auto& status = std::get<wire::StatusPacket>(decoded);
     CHECK(status.protocol == Protocol::Feetech);
@@ -93,7 +82,8 @@ TEST_CASE("FEETECH example status frames decode to the page's fields and re-enco
 TEST_CASE("The FEETECH-only examples decode to their own instruction types",
           "[wire][feetech][golden]") {
   auto instruction = [](const Bytes& bytes) {
-    return std::get<wire::InstructionPacket>(wire::decode_instruction(frame_one(bytes)))
+    return std::get<wire::InstructionPacket>(
+               wire::decode_instruction(test::frame_one(Protocol::Feetech, bytes)))
         .instruction;
   };
   // 4.9 Example 11: "Set value: 00 04(1024)"; Example 10 has none (the middle position).
@@ -129,7 +119,7 @@ TEST_CASE("The same bytes mean different instructions in Protocol 1.0 and FEETEC
   REQUIRE(std::holds_alternative<wire::InstructionPacket>(as_v1));
   CHECK(wire::describe(std::get<wire::InstructionPacket>(as_v1)) ==
         "id=1 factory_reset option=0xFF");
-  const auto as_feetech = wire::decode_instruction(frame_one(recovery));
+  const auto as_feetech = wire::decode_instruction(test::frame_one(Protocol::Feetech, recovery));
   REQUIRE(std::holds_alternative<wire::InstructionPacket>(as_feetech));
   CHECK(wire::describe(std::get<wire::InstructionPacket>(as_feetech)) == "id=1 parameter_recovery");
 }

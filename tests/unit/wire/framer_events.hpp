@@ -1,5 +1,8 @@
 #pragma once
 
+#include <catch2/catch.hpp>
+
+#include <initializer_list>
 #include <string>
 #include <variant>
 #include <vector>
@@ -13,6 +16,15 @@ namespace dxlemu::test {
 /// A Ping instruction packet to `id` in `protocol`: the shortest valid packet, for framing tests.
 inline std::vector<std::uint8_t> ping_packet(wire::Protocol protocol, std::uint8_t id) {
   return wire::encode_instruction({protocol, id, wire::Ping{}});
+}
+
+/// The byte strings of `parts`, one after the other.
+inline std::vector<std::uint8_t> concat(std::initializer_list<std::vector<std::uint8_t>> parts) {
+  std::vector<std::uint8_t> out;
+  for (const auto& p : parts) {
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
 }
 
 /// The frames among framer events, in order.
@@ -65,6 +77,19 @@ inline std::string summary(const std::vector<wire::FramerEvent>& events) {
     }
   }
   return out;
+}
+
+/// The one frame `bytes` make in a fresh framer of `protocol`, with nothing left buffered; fails
+/// the test case otherwise.
+inline wire::Frame frame_one(wire::Protocol protocol, const std::vector<std::uint8_t>& bytes) {
+  wire::Framer framer(protocol);
+  std::vector<wire::FramerEvent> events;
+  framer.feed(bytes, sim::SimTime{}, events);
+  INFO(summary(events));
+  REQUIRE(events.size() == 1);
+  REQUIRE(std::holds_alternative<wire::Frame>(events[0]));
+  REQUIRE(framer.buffered() == 0);
+  return std::get<wire::Frame>(events[0]);
 }
 
 }  // namespace dxlemu::test

@@ -16,19 +16,10 @@ using wire::Protocol;
 
 namespace {
 
+using test::concat;
+using test::ping_packet;
+
 using Bytes = std::vector<std::uint8_t>;
-
-Bytes ping(Protocol protocol, std::uint8_t id) {
-  return test::ping_packet(protocol, id);
-}
-
-Bytes concat(std::initializer_list<Bytes> parts) {
-  Bytes out;
-  for (const auto& p : parts) {
-    out.insert(out.end(), p.begin(), p.end());
-  }
-  return out;
-}
 
 std::string frame_all(Protocol protocol, const Bytes& stream) {
   Framer framer(protocol);
@@ -71,18 +62,18 @@ TEST_CASE("Garbage before, between and after golden packets is skipped and count
 }
 
 TEST_CASE("Garbage full of header prefixes does not hide the packet after it", "[wire][garbage]") {
-  CHECK(frame_all(Protocol::V2, concat({kTrickyGarbage, ping(Protocol::V2, 7)})) ==
+  CHECK(frame_all(Protocol::V2, concat({kTrickyGarbage, ping_packet(Protocol::V2, 7)})) ==
         "garbage(11) frame(id=7)");
   // In 1.0 FF FF is a whole header: FF FF FD and FF FF FF are headers with invalid lengths or IDs.
   const Bytes v1_garbage = {0x00, 0xFF, 0x12, 0xFE, 0x55, 0xFF};
-  CHECK(frame_all(Protocol::V1, concat({v1_garbage, ping(Protocol::V1, 7)})) ==
+  CHECK(frame_all(Protocol::V1, concat({v1_garbage, ping_packet(Protocol::V1, 7)})) ==
         "garbage(6) frame(id=7)");
 }
 
 TEST_CASE("A 1.0 run of FF bytes before a packet resynchronises on the last FF FF",
           "[wire][garbage]") {
   // FF FF FF FF FF 03 ...: each FF FF followed by FF is a header with the invalid ID 0xFF.
-  CHECK(frame_all(Protocol::V1, concat({{0xFF, 0xFF, 0xFF}, ping(Protocol::V1, 3)})) ==
+  CHECK(frame_all(Protocol::V1, concat({{0xFF, 0xFF, 0xFF}, ping_packet(Protocol::V1, 3)})) ==
         "garbage(3) frame(id=3)");
 }
 
@@ -90,7 +81,7 @@ TEST_CASE("A header with an invalid Packet ID is garbage and rescanning continue
           "[wire][garbage]") {
   // 0xFD and 0xFF are not Packet IDs in 2.0 (0 ~ 252 and 0xFE).
   const Bytes bad_id = {0xFF, 0xFF, 0xFD, 0x00, 0xFD, 0x03, 0x00};
-  CHECK(frame_all(Protocol::V2, concat({bad_id, ping(Protocol::V2, 1)})) ==
+  CHECK(frame_all(Protocol::V2, concat({bad_id, ping_packet(Protocol::V2, 1)})) ==
         "garbage(7) frame(id=1)");
 }
 
@@ -99,7 +90,7 @@ TEST_CASE("A bad CRC is reported with the unverified ID and a packet inside it i
   // A header announcing 13 bytes (LENGTH 13) swallows a whole ping; its CRC cannot match, and the
   // rescan from the next byte finds the ping.
   Bytes stream = {0xFF, 0xFF, 0xFD, 0x00, 0x05, 0x0D, 0x00};
-  const Bytes inner = ping(Protocol::V2, 9);
+  const Bytes inner = ping_packet(Protocol::V2, 9);
   stream.insert(stream.end(), inner.begin(), inner.end());
   stream.insert(stream.end(), {0x11, 0x22, 0x33});
   Framer framer(Protocol::V2);
@@ -113,9 +104,9 @@ TEST_CASE("A bad CRC is reported with the unverified ID and a packet inside it i
 
 TEST_CASE("A 1.0 packet with a wrong checksum is reported and the next packet still frames",
           "[wire][garbage]") {
-  Bytes corrupt = ping(Protocol::V1, 4);
+  Bytes corrupt = ping_packet(Protocol::V1, 4);
   corrupt.back() ^= 0x01;
-  CHECK(frame_all(Protocol::V1, concat({corrupt, ping(Protocol::V1, 5)})) ==
+  CHECK(frame_all(Protocol::V1, concat({corrupt, ping_packet(Protocol::V1, 5)})) ==
         "bad_check(id=4) frame(id=5)");
 }
 
@@ -126,17 +117,17 @@ TEST_CASE("An impossible LENGTH is rejected at once instead of swallowing what f
   for (const auto& header : {too_short, too_long}) {
     Framer framer(Protocol::V2);
     std::vector<wire::FramerEvent> events;
-    framer.feed(concat({header, ping(Protocol::V2, 2)}), SimTime{}, events);
+    framer.feed(concat({header, ping_packet(Protocol::V2, 2)}), SimTime{}, events);
     CHECK(test::summary(events) == "impossible_length(id=1) frame(id=2)");
   }
   const Bytes v1_too_short = {0xFF, 0xFF, 0x01, 0x01};  // LENGTH 1 < 2
-  CHECK(frame_all(Protocol::V1, concat({v1_too_short, ping(Protocol::V1, 2)})) ==
+  CHECK(frame_all(Protocol::V1, concat({v1_too_short, ping_packet(Protocol::V1, 2)})) ==
         "impossible_length(id=1) frame(id=2)");
 }
 
 TEST_CASE("A partial packet is dropped after the 2.0 inter-byte timeout of 1.5 ms",
           "[wire][timeout]") {
-  const Bytes p = ping(Protocol::V2, 1);
+  const Bytes p = ping_packet(Protocol::V2, 1);
   const std::span<const std::uint8_t> bytes(p);
   SECTION("a gap of exactly 1.5 ms is still one packet") {
     Framer framer(Protocol::V2);
@@ -170,7 +161,7 @@ TEST_CASE("A partial packet is dropped after the 2.0 inter-byte timeout of 1.5 m
 
 TEST_CASE("A partial 1.0 packet survives gaps up to 100 ms and is dropped after",
           "[wire][timeout]") {
-  const Bytes p = ping(Protocol::V1, 1);
+  const Bytes p = ping_packet(Protocol::V1, 1);
   const std::span<const std::uint8_t> bytes(p);
   Framer framer(Protocol::V1);
   std::vector<wire::FramerEvent> events;
@@ -188,7 +179,7 @@ TEST_CASE("A timed-out header that swallowed a whole packet gives that packet ba
   // LENGTH 100 is possible, so the framer waits; when the line goes quiet, the rescan finds the
   // complete ping that arrived inside the announced length.
   Bytes stream = {0xFF, 0xFF, 0xFD, 0x00, 0x03, 0x64, 0x00};
-  const Bytes inner = ping(Protocol::V2, 6);
+  const Bytes inner = ping_packet(Protocol::V2, 6);
   stream.insert(stream.end(), inner.begin(), inner.end());
   Framer framer(Protocol::V2);
   std::vector<wire::FramerEvent> events;
@@ -213,6 +204,6 @@ TEST_CASE("The 1.0 framer hears a 2.0 packet as noise, not as an impossible 1.0 
           "[wire][garbage]") {
   // FF FF FD 00 reads as 1.0 ID 0xFD with LENGTH 0: on a mixed bus that is the other protocol.
   const Bytes v2_read = wire::encode_instruction({Protocol::V2, 1, wire::Read{132, 4}});
-  CHECK(frame_all(Protocol::V1, concat({v2_read, ping(Protocol::V1, 2)})) ==
+  CHECK(frame_all(Protocol::V1, concat({v2_read, ping_packet(Protocol::V1, 2)})) ==
         "garbage(" + std::to_string(v2_read.size()) + ") frame(id=2)");
 }

@@ -18,24 +18,15 @@ using wire::Protocol;
 
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
+using test::concat;
+using test::ping_packet;
 
-Bytes ping(Protocol protocol, std::uint8_t id) {
-  return test::ping_packet(protocol, id);
-}
+using Bytes = std::vector<std::uint8_t>;
 
 Bytes read(Protocol protocol, std::uint8_t id) {
   constexpr std::uint16_t kPresentPosition = 132;
   constexpr std::uint16_t kFourBytes = 4;
   return wire::encode_instruction({protocol, id, wire::Read{kPresentPosition, kFourBytes}});
-}
-
-Bytes concat(std::initializer_list<Bytes> parts) {
-  Bytes out;
-  for (const auto& p : parts) {
-    out.insert(out.end(), p.begin(), p.end());
-  }
-  return out;
 }
 
 // The events of `stream` fed in one chunk, then expired.
@@ -65,7 +56,7 @@ const Bytes& raw_of(const wire::FramerEvent& event) {
 
 TEST_CASE("A garbage run carries the bytes skipped", "[wire][framer]") {
   const Bytes junk = {0x13, 0x37, 0x00, 0xFF, 0xFE};
-  const auto events = events_of(Protocol::V2, concat({junk, ping(Protocol::V2, 1), junk}));
+  const auto events = events_of(Protocol::V2, concat({junk, ping_packet(Protocol::V2, 1), junk}));
   REQUIRE(test::summary(events) == "garbage(5) frame(id=1) garbage(5)");
   CHECK(std::get<wire::FramingError>(events[0]).raw == junk);
   CHECK(std::get<wire::FramingError>(events[2]).raw == junk);
@@ -75,7 +66,7 @@ TEST_CASE("A bad CRC or checksum carries the whole packet as it arrived", "[wire
   for (const auto protocol : {Protocol::V1, Protocol::V2}) {
     Bytes bad = read(protocol, 2);
     bad.back() ^= 0xFF;
-    const auto events = events_of(protocol, concat({bad, ping(protocol, 3)}));
+    const auto events = events_of(protocol, concat({bad, ping_packet(protocol, 3)}));
     REQUIRE(test::summary(events) == "bad_check(id=2) frame(id=3)");
     CHECK(std::get<wire::FramingError>(events[0]).raw == bad);
   }
@@ -84,7 +75,7 @@ TEST_CASE("A bad CRC or checksum carries the whole packet as it arrived", "[wire
 TEST_CASE("An impossible length carries the header, ID and LENGTH it rejects", "[wire][framer]") {
   // LENGTH 1 is below the 2.0 minimum of 3 (instruction and CRC).
   const Bytes header = {0xFF, 0xFF, 0xFD, 0x00, 0x04, 0x01, 0x00};
-  const auto events = events_of(Protocol::V2, concat({header, ping(Protocol::V2, 5)}));
+  const auto events = events_of(Protocol::V2, concat({header, ping_packet(Protocol::V2, 5)}));
   REQUIRE(test::summary(events) == "impossible_length(id=4) frame(id=5)");
   CHECK(std::get<wire::FramingError>(events[0]).raw == header);
 }
@@ -118,7 +109,7 @@ TEST_CASE("Every event's bytes are the stream's from its offset on, however the 
             bytes = read(protocol, static_cast<std::uint8_t>(rng.uniform(0, 200)));
             break;
           case 1:
-            bytes = ping(protocol, 1);
+            bytes = ping_packet(protocol, 1);
             bytes.back() ^= 0x5A;
             break;
           case 2:

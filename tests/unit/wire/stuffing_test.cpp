@@ -23,15 +23,6 @@ wire::InstructionPacket write_of(Bytes data) {
 }
 
 // Frames and decodes one encoded packet; it must come out as exactly one frame.
-wire::Frame frame_one(const Bytes& bytes) {
-  wire::Framer framer(Protocol::V2);
-  std::vector<wire::FramerEvent> events;
-  framer.feed(bytes, sim::SimTime{}, events);
-  INFO(test::summary(events));
-  REQUIRE(events.size() == 1);
-  return std::get<wire::Frame>(events.at(0));
-}
-
 std::size_t length_field(const Bytes& packet) {
   return packet[5] | (packet[6] << 8);
 }
@@ -81,7 +72,7 @@ TEST_CASE("A Write whose data holds FF FF FD is stuffed, LENGTH counts the stuff
     CHECK(bytes[bytes.size() - 2] == (crc & 0xFF));
     CHECK(bytes[bytes.size() - 1] == (crc >> 8));
     // The framer finds no header inside the stuffed data and decodes the original data.
-    const auto decoded = wire::decode_instruction(frame_one(bytes));
+    const auto decoded = wire::decode_instruction(test::frame_one(Protocol::V2, bytes));
     REQUIRE(std::holds_alternative<wire::InstructionPacket>(decoded));
     CHECK(std::get<wire::InstructionPacket>(decoded) == packet);
   }
@@ -106,7 +97,7 @@ TEST_CASE("Status packets are stuffed like instructions", "[wire][stuffing]") {
   const wire::StatusPacket status{Protocol::V2, 3, 0x00, {0xFF, 0xFF, 0xFD, 0x10}};
   const Bytes bytes = wire::encode_status(status);
   CHECK(length_field(bytes) == 1 + 1 + 4 + 1 + 2);  // 0x55, error, params, stuffing, CRC
-  const auto decoded = wire::decode_status(frame_one(bytes));
+  const auto decoded = wire::decode_status(test::frame_one(Protocol::V2, bytes));
   REQUIRE(std::holds_alternative<wire::StatusPacket>(decoded));
   CHECK(std::get<wire::StatusPacket>(decoded) == status);
 }
@@ -120,7 +111,7 @@ TEST_CASE("A Fast Sync Read reply whose data holds FF FF FD is sent and decoded 
   CHECK(length_field(bytes) == 1 + 2 * (2 + 4 + 2));
   CHECK(bytes.size() == 7 + length_field(bytes));
   const std::vector<std::uint16_t> lengths = {4, 4};
-  const auto decoded = wire::decode_fast_reply(frame_one(bytes), lengths);
+  const auto decoded = wire::decode_fast_reply(test::frame_one(Protocol::V2, bytes), lengths);
   REQUIRE(std::holds_alternative<wire::FastReply>(decoded));
   CHECK(std::get<wire::FastReply>(decoded) == reply);
 }
@@ -135,7 +126,7 @@ TEST_CASE("A Fast reply with a wrong embedded CRC is refused naming the block",
   bytes[bytes.size() - 2] = static_cast<std::uint8_t>(crc & 0xFF);
   bytes[bytes.size() - 1] = static_cast<std::uint8_t>(crc >> 8);
   const std::vector<std::uint16_t> lengths = {1, 1};
-  const auto decoded = wire::decode_fast_reply(frame_one(bytes), lengths);
+  const auto decoded = wire::decode_fast_reply(test::frame_one(Protocol::V2, bytes), lengths);
   REQUIRE(std::holds_alternative<wire::DecodeError>(decoded));
   CHECK(std::get<wire::DecodeError>(decoded).reason == "fast reply block 1 (ID 3) has a wrong CRC");
 }
@@ -149,7 +140,7 @@ TEST_CASE("Unstuffing starts at the instruction byte, where the sender's stuffin
   const Bytes bytes = wire::encode_instruction(packet);
   CHECK(bytes ==
         Bytes{0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x06, 0x00, 0xFF, 0xFF, 0xFD, 0xFD, 0xF8, 0xD3});
-  const auto decoded = wire::decode_instruction(frame_one(bytes));
+  const auto decoded = wire::decode_instruction(test::frame_one(Protocol::V2, bytes));
   REQUIRE(std::holds_alternative<wire::InstructionPacket>(decoded));
   CHECK(std::get<wire::InstructionPacket>(decoded) == packet);
 }
