@@ -88,6 +88,9 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   run_ctest build/san -LE 'source|plain_build'
 step "done"
 
+# The unit tests' ctest tests are their files; how many test cases those ran.
+cases=$( { build/san/tests/unit/dxlemu_unit_tests --list-test-names-only
+           build/test/tests/unit/dxlemu_physics_tests --list-test-names-only; } | grep -c .)
 echo "== all tests passed"
 printf '   %s\n' "${steps[@]}"
-echo "$total passed, 0 failed"
+echo "$total passed, 0 failed ($cases unit test cases among them)"
