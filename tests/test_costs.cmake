@@ -69,7 +69,7 @@ set(DXLEMU_TEST_COSTS
   tests.unit_cases_are_all_run_and_safely_named 0.4
   unit.app.app_fuzz_findings 0.1
   unit.app.bus_config 0.2
-  unit.app.bus_scan 0.2
+  unit.scan.bus_scan 0.2
   unit.app.bus_state 0.2
   unit.app.ctl_request 0.1
   unit.app.exec_setup 0.1
@@ -118,7 +118,7 @@ set(DXLEMU_TEST_COSTS
   unit.physics.world_clock 0.1
   unit.sim.rng 0.1
   unit.sim.scheduler 0.1
-  unit.sim.wake_lead 0.1
+  unit.io.wake_lead 0.1
   unit.wire.checks 0.1
   unit.wire.decoder 0.1
   unit.wire.fast_reply 0.1

@@ -82,7 +82,7 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
   stats_.bytes_in += bytes.size();
   drop_pending_replies();
   // Each protocol's framer hears the line when a servo speaks that protocol (mixed DYNAMIXEL
-  // buses; a port of FEETECH servos has only those, app/bus_config refuses a mix). The
+  // buses; a port of FEETECH servos has only those, app/config/bus_config refuses a mix). The
   // bytes of one write follow each other on the line, a byte time apart.
   std::vector<SimTime> times(bytes.size());
   for (std::size_t i = 0; i < times.size(); ++i) {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "faults/rule.hpp"
-#include "model/hardware_fault.hpp"
+#include "model/motion/hardware_fault.hpp"
 #include "sim/rng.hpp"
 #include "sim/sim_time.hpp"
 #include "wire/protocol.hpp"

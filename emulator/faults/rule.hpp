@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "model/hardware_fault.hpp"
+#include "model/motion/hardware_fault.hpp"
 #include "sim/sim_time.hpp"
 
 namespace dxlemu::faults {

@@ -7,8 +7,8 @@
 #include <optional>
 #include <utility>
 
+#include "io/wake_lead.hpp"
 #include "sim/scheduler.hpp"
-#include "sim/wake_lead.hpp"
 
 namespace dxlemu::io {
 
@@ -28,7 +28,7 @@ enum class Pace {
 ///
 /// Precision (docs/architecture.md "The real-time driver", docs/benchmarks.md): the constructor
 /// sets the calling thread's Linux timer slack to 1 ns, and with Pace::WallClock the timer is
-/// armed early by what the driver learned of its own wake-ups (sim::WakeLead), the last stretch
+/// armed early by what the driver learned of its own wake-ups (WakeLead), the last stretch
 /// being a busy-wait on steady_clock.
 class RealTimeDriver {
  public:
@@ -79,7 +79,7 @@ class RealTimeDriver {
   std::optional<std::chrono::steady_clock::time_point> armed_;
   /// A spin-and-run handler is posted and has not run yet.
   bool spin_posted_ = false;
-  sim::WakeLead lead_{kWakeQuantile, kSpinWindow};
+  WakeLead lead_{kWakeQuantile, kSpinWindow};
   std::chrono::steady_clock::time_point start_;
 };
 

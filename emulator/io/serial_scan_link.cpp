@@ -49,7 +49,7 @@ std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::Instruction
   }
   // The framer takes arrival times; time since the send stands in for the simulated time.
   const Clock::time_point start = Clock::now();
-  app::StatusReader reader(packet.protocol);
+  wire::StatusReader reader(packet.protocol);
   std::vector<wire::StatusPacket> replies;
   std::array<std::uint8_t, 512> buffer{};
   Clock::time_point give_up = start + timeout;

@@ -2,14 +2,15 @@
 
 #include <string>
 
-#include "app/bus_scan.hpp"
+#include "scan/scan_link.hpp"
+#include "wire/status_reader.hpp"
 
 namespace dxlemu::io {
 
 /// The scan link of `dxlemu clone` on a serial device (a U2D2, or a PTY): raw 8N1 at any rate
 /// (TCSETS2/BOTHER), no flow control. Input that arrives between exchanges (a late reply, line
 /// noise) is discarded before each send.
-class SerialScanLink final : public app::ScanLink {
+class SerialScanLink final : public scan::ScanLink {
  public:
   /// Opens `path`; throws std::system_error naming it when it cannot.
   explicit SerialScanLink(const std::string& path);

@@ -6,9 +6,9 @@
 #include <span>
 #include <vector>
 
-#include "model/control_table.hpp"
-#include "model/model_spec.hpp"
-#include "model/motion_model.hpp"
+#include "model/motion/motion_model.hpp"
+#include "model/spec/model_spec.hpp"
+#include "model/table/control_table.hpp"
 #include "sim/sim_time.hpp"
 #include "wire/instruction.hpp"
 #include "wire/instruction_decoder.hpp"

@@ -12,12 +12,12 @@
 #include <string>
 #include <string_view>
 
-#include "app/bus_config.hpp"
-#include "app/model_library.hpp"
+#include "app/config/bus_config.hpp"
+#include "app/config/model_library.hpp"
 #include "fuzz_require.hpp"
-#include "model/model_error.hpp"
-#include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "model/spec/model_error.hpp"
+#include "model/spec/model_loader.hpp"
 
 namespace dxlemu::fuzz {
 namespace {

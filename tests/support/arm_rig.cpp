@@ -5,8 +5,8 @@
 #include <array>
 #include <stdexcept>
 
-#include "app/physics_config.hpp"
-#include "app/robot_library.hpp"
+#include "app/config/physics_config.hpp"
+#include "app/config/robot_library.hpp"
 
 namespace dxlemu::test {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "app/bus_config.hpp"
-#include "app/model_library.hpp"
+#include "app/config/bus_config.hpp"
+#include "app/config/model_library.hpp"
 #include "model/servo.hpp"
 #include "physics/world_clock.hpp"
 #include "sim/sim_time.hpp"

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "app/bus_port_view.hpp"
+#include "app/daemon/bus_port_view.hpp"
 #include "bus/bus.hpp"
 #include "bus/loopback_link.hpp"
 #include "control/target.hpp"

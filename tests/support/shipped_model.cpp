@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "model/model_loader.hpp"
+#include "model/spec/model_loader.hpp"
 
 namespace dxlemu::test {
 namespace {

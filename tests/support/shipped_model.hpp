@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "model/model_spec.hpp"
+#include "model/spec/model_spec.hpp"
 
 namespace dxlemu::test {
 

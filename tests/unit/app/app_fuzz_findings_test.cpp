@@ -3,8 +3,8 @@
 #include <catch2/catch.hpp>
 #include <string>
 
-#include "app/bus_config.hpp"
-#include "app/model_library.hpp"
+#include "app/config/bus_config.hpp"
+#include "app/config/model_library.hpp"
 
 using namespace dxlemu;
 

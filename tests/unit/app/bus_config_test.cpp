@@ -2,7 +2,7 @@
 // the file, the JSON pointer and the reason.
 #include <catch2/catch.hpp>
 
-#include "app/bus_config.hpp"
+#include "app/config/bus_config.hpp"
 
 using namespace dxlemu;
 using app::ConfigError;

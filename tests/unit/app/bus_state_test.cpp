@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
-#include "app/bus_config.hpp"
-#include "app/bus_state.hpp"
+#include "app/config/bus_config.hpp"
+#include "app/daemon/bus_state.hpp"
 #include "shipped_model.hpp"
 
 using namespace dxlemu;

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <stdexcept>
 
-#include "app/ctl_request.hpp"
+#include "app/cli/ctl_request.hpp"
 #include "live_sockets.hpp"
 
 using namespace dxlemu;

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <stdexcept>
 
-#include "app/exec_setup.hpp"
+#include "app/cli/exec_setup.hpp"
 #include "live_sockets.hpp"
 
 using namespace dxlemu;

@@ -1,9 +1,10 @@
-// JsonLine (app/json_line.hpp): the trace's JSON lines, written as nlohmann::json writes them.
+// JsonLine (app/record/json_line.hpp): the trace's JSON lines, written as nlohmann::json writes
+// them.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "app/json_line.hpp"
+#include "app/record/json_line.hpp"
 
 using dxlemu::app::JsonLine;
 

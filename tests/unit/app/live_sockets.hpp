@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "app/ctl_request.hpp"
+#include "app/cli/ctl_request.hpp"
 
 namespace dxlemu::test {
 

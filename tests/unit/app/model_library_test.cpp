@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "app/model_library.hpp"
-#include "app/robot_library.hpp"
-#include "model/model_error.hpp"
+#include "app/config/model_library.hpp"
+#include "app/config/robot_library.hpp"
+#include "model/spec/model_error.hpp"
 
 using namespace dxlemu;
 

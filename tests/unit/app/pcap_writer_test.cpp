@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "app/pcap_writer.hpp"
+#include "app/record/pcap_writer.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"

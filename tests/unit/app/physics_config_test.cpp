@@ -6,8 +6,8 @@
 #include <chrono>
 #include <string>
 
-#include "app/bus_config.hpp"
-#include "app/physics_config.hpp"
+#include "app/config/bus_config.hpp"
+#include "app/config/physics_config.hpp"
 #include "physics/mjcf_world.hpp"
 #include "physics/physics_fixtures.hpp"
 

@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 
-#include "app/robot_library.hpp"
+#include "app/config/robot_library.hpp"
 #include "physics/mjcf_world.hpp"
 
 using namespace dxlemu;

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "app/trace_record.hpp"
+#include "app/record/trace_record.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"

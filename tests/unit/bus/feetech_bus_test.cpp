@@ -3,9 +3,9 @@
 // (docs/feetech.md "On a bus").
 #include <catch2/catch.hpp>
 
-#include "app/bus_state.hpp"
+#include "app/daemon/bus_state.hpp"
 #include "bus_rig.hpp"
-#include "model/hardware_fault.hpp"
+#include "model/motion/hardware_fault.hpp"
 
 namespace dxlemu {
 namespace {

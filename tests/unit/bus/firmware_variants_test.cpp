@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "bus_rig.hpp"
-#include "model/model_loader.hpp"
+#include "model/spec/model_loader.hpp"
 #include "wire/hex.hpp"
 
 using namespace dxlemu;

@@ -2,8 +2,8 @@
 // AX-12A and the dual-axis 2XL430 (docs/control-table.md).
 #include <catch2/catch.hpp>
 
-#include "model/control_table.hpp"
-#include "model/dual_axis.hpp"
+#include "model/table/control_table.hpp"
+#include "model/table/dual_axis.hpp"
 #include "shipped_model.hpp"
 #include "table_access.hpp"
 

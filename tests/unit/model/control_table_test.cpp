@@ -2,7 +2,7 @@
 // changes nothing (docs/control-table.md). These tests use the small test model.
 #include <catch2/catch.hpp>
 
-#include "model/control_table.hpp"
+#include "model/table/control_table.hpp"
 #include "table_access.hpp"
 #include "test_model.hpp"
 

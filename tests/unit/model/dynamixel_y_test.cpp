@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "model/spec/model_loader.hpp"
 #include "status_bytes.hpp"
 #include "table_access.hpp"
 

@@ -1,12 +1,12 @@
-// The table of family traits (model/family_traits.hpp): one row per family, found by its name,
+// The table of family traits (model/spec/family_traits.hpp): one row per family, found by its name,
 // saying what the e-Manual says each family does beyond its control table.
 #include <catch2/catch.hpp>
 
 #include <string>
 #include <vector>
 
-#include "model/family_traits.hpp"
-#include "model/hardware_fault.hpp"
+#include "model/motion/hardware_fault.hpp"
+#include "model/spec/family_traits.hpp"
 
 using namespace dxlemu;
 using model::Family;

@@ -4,9 +4,9 @@
 #include <memory>
 #include <string>
 
-#include "model/model_error.hpp"
-#include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "model/spec/model_error.hpp"
+#include "model/spec/model_loader.hpp"
 #include "shipped_model.hpp"
 #include "wire/packet_encoder.hpp"
 #include "wire/status_error.hpp"

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "model/model_loader.hpp"
+#include "model/spec/model_loader.hpp"
 #include "test_model.hpp"
 
 using namespace dxlemu;

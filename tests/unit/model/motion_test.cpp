@@ -1,4 +1,4 @@
-// The motion model on the virtual clock (model/motion_model.hpp, docs/motion.md): profiles
+// The motion model on the virtual clock (model/motion/motion_model.hpp, docs/motion.md): profiles
 // against the e-Manual formulas, operating modes, mode-change resets, the motor under load and
 // blocked, heat, hardware errors with Shutdown and Reboot, Protocol 1.0 wheel mode and Alarm
 // Shutdown, and determinism.

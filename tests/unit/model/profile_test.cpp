@@ -1,4 +1,4 @@
-// The motion-profile planner (model/profile.hpp) against the X-series e-Manual formulas
+// The motion-profile planner (model/motion/profile.hpp) against the X-series e-Manual formulas
 // (includes/control_table_profile_velocity.md, control_table_profile_acceleration.md,
 // control_table_moving_status.md): velocity-based trapezoid, triangle and rectangle, time-based
 // profiles and the 50% cap, velocity override, clamping and determinism.
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "model/profile.hpp"
+#include "model/motion/profile.hpp"
 
 using Catch::Matchers::WithinAbs;
 using dxlemu::model::Profile;

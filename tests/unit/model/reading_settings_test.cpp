@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "model/model_loader.hpp"
 #include "model/servo.hpp"
+#include "model/spec/model_loader.hpp"
 #include "shipped_model.hpp"
 #include "table_access.hpp"
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "model/model_loader.hpp"
-#include "model/motion_items.hpp"
+#include "model/motion/motion_items.hpp"
 #include "model/servo.hpp"
+#include "model/spec/model_loader.hpp"
 #include "shipped_model.hpp"
 
 using namespace dxlemu;

@@ -12,8 +12,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "model/control_table.hpp"
-#include "model/model_loader.hpp"
+#include "model/spec/model_loader.hpp"
+#include "model/table/control_table.hpp"
 #include "reference_page.hpp"
 #include "shipped_model.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "model/control_table.hpp"
+#include "model/table/control_table.hpp"
 
 namespace dxlemu::test {
 

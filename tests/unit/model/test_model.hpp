@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "model/model_loader.hpp"
+#include "model/spec/model_loader.hpp"
 
 namespace dxlemu::test {
 

@@ -6,9 +6,9 @@
 
 #include <algorithm>
 
-#include "app/bus_state.hpp"
-#include "model/control_table.hpp"
-#include "model/item_encoding.hpp"
+#include "app/daemon/bus_state.hpp"
+#include "model/table/control_table.hpp"
+#include "model/table/item_encoding.hpp"
 #include "shipped_model.hpp"
 #include "table_access.hpp"
 #include "test_model.hpp"

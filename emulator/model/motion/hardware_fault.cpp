@@ -1,0 +1,73 @@
+#include "model/motion/hardware_fault.hpp"
+
+#include <array>
+
+namespace dxlemu::model {
+namespace {
+
+constexpr std::array<HardwareFault, 6> kFaults = {
+    HardwareFault::InputVoltage,    HardwareFault::Overheating, HardwareFault::Overload,
+    HardwareFault::ElectricalShock, HardwareFault::Encoder,     HardwareFault::HallSensor};
+
+}  // namespace
+
+std::uint8_t fault_bit(const FaultBits& bits, HardwareFault fault) {
+  switch (fault) {
+    case HardwareFault::InputVoltage:
+      return bits.input_voltage;
+    case HardwareFault::Overheating:
+      return bits.overheating;
+    case HardwareFault::Overload:
+      return bits.overload;
+    case HardwareFault::ElectricalShock:
+      return bits.electrical_shock;
+    case HardwareFault::Encoder:
+      return bits.encoder;
+    case HardwareFault::HallSensor:
+      return bits.hall_sensor;
+  }
+  return 0;
+}
+
+std::uint8_t fault_bit(Family family, HardwareFault fault) {
+  return fault_bit(traits_of(family).fault_bits, fault);
+}
+
+std::uint8_t fault_bits(Family family, FaultSet faults) {
+  std::uint8_t bits = 0;
+  for (const HardwareFault f : kFaults) {
+    if ((faults & fault_set(f)) != 0) {
+      bits |= fault_bit(family, f);
+    }
+  }
+  return bits;
+}
+
+std::string_view fault_name(HardwareFault fault) {
+  switch (fault) {
+    case HardwareFault::InputVoltage:
+      return "input_voltage";
+    case HardwareFault::Overheating:
+      return "overheating";
+    case HardwareFault::Overload:
+      return "overload";
+    case HardwareFault::ElectricalShock:
+      return "electrical_shock";
+    case HardwareFault::Encoder:
+      return "encoder";
+    case HardwareFault::HallSensor:
+      return "hall_sensor";
+  }
+  return "";
+}
+
+std::optional<HardwareFault> fault_from_name(std::string_view name) {
+  for (const HardwareFault f : kFaults) {
+    if (fault_name(f) == name) {
+      return f;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace dxlemu::model

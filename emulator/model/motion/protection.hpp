@@ -1,0 +1,74 @@
+#pragma once
+
+#include <cstdint>
+
+#include "model/motion/hardware_fault.hpp"
+#include "model/motion/motion_context.hpp"
+
+namespace dxlemu::model {
+
+/// Detects one servo's hardware errors after each tick (supply voltage outside its limits,
+/// winding over Temperature Limit, the motor at its torque limit for the Overload time or, where
+/// the model has FEETECH's timed protections, over Overload torque for Protection time and over
+/// Protection current for Overcurrent protection time, and the errors forced from outside) and
+/// reacts as its family does (FamilyTraits::error_reaction): Alarm Shutdown, a latched Shutdown, or
+/// DYNAMIXEL-Y's Error Code. Keeps DYNAMIXEL-Y's Controller State(152) in step with torque and
+/// errors. docs/motion.md "Hardware errors".
+class Protection {
+ public:
+  /// Protection working on `motion`, which must outlive it.
+  explicit Protection(MotionContext& motion) : motion_(motion) {}
+
+  /// Registers the table rules of the reaction: Torque Enable refused while Hardware Error
+  /// Status holds an error; a Torque Limit write ending a 1.0 Overload.
+  void install_hooks();
+
+  /// Hardware errors forced from outside (fault injection): each is detected as if its
+  /// condition were real, for as long as it is set.
+  FaultSet injected() const { return injected_; }
+  void set_injected(FaultSet faults) { injected_ = faults; }
+
+  /// Checks the motor's state after a tick and reacts: a shutdown turns torque off (or sets
+  /// Torque Limit to 0) and ends the move.
+  void check();
+
+  /// The errors a Protocol 1.0 status reports in its error byte now: the 1.0 families' errors
+  /// of the last check, or a 2.0 model's latched errors in the 1.0 bits.
+  std::uint8_t v1_error_bits() const;
+
+  /// Bus Watchdog expiry, where the family reports it in Error Code (ErrorCodes::bus_watchdog).
+  void report_bus_watchdog();
+
+  /// Power-on or reboot: no Overload building up or latched; Controller State shows torque.
+  void reset();
+
+ private:
+  /// True while Error Code holds an error that keeps torque off (every one but Bus Watchdog).
+  bool torque_off_error() const;
+  /// FEETECH's overload protection: true while it is tripped. Once tripped (with the load bit
+  /// in Unload condition) the motor keeps only Holding torque until it no longer needs more.
+  bool timed_overload();
+  /// FEETECH's overcurrent protection: true once Present current has been at Protection current
+  /// for Overcurrent protection time.
+  bool timed_overcurrent();
+  void alarm_shutdown(FaultSet active);
+  void latch(FaultSet active);
+  void latch_error_code(FaultSet active, double volts);
+  /// A latched error turns torque off: the motor stops driving and the profile ends.
+  void turn_torque_off_for_error();
+  void record_error_code(std::uint8_t code);
+  void publish_controller_state();
+
+  MotionContext& motion_;
+  FaultSet injected_ = 0;
+  double at_limit_ms_ = 0;      // how long the motor has been at its torque limit
+  double over_torque_ms_ = 0;   // how long over FEETECH's Overload torque
+  double over_current_ms_ = 0;  // how long at FEETECH's Protection current
+  bool holding_ = false;        // FEETECH's overload protection leaves only Holding torque
+  // Errors that unloaded the motor and went with its torque (1.0 Overload, FEETECH overcurrent):
+  // reported until Torque Limit is written.
+  FaultSet latched_ = 0;
+  std::uint8_t v1_errors_ = 0;  // 1.0 error bits from the last check
+};
+
+}  // namespace dxlemu::model

@@ -1,0 +1,63 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/config/model_library.hpp"
+#include "scan/scan_link.hpp"
+#include "sim/sim_time.hpp"
+#include "wire/framer.hpp"
+#include "wire/instruction.hpp"
+#include "wire/status.hpp"
+
+namespace dxlemu::scan {
+
+/// What `dxlemu clone` looks for (docs/robots.md "Cloning a real bus").
+struct ScanOptions {
+  /// The rates to try, in order; empty: every rate a model of the library offers, the common
+  /// ones (1 Mbit/s, 57600, 115200) first.
+  std::vector<std::uint32_t> bauds;
+  /// Protocol 2.0 (broadcast Ping), and the 1.0 framing of DYNAMIXEL 1.0 and FEETECH (a Ping of
+  /// every ID, then the model number tells the maker).
+  bool v2 = true;
+  bool v1 = true;
+  bool feetech = true;
+  /// The IDs a 1.0 or FEETECH sweep pings (2.0 finds every ID with one broadcast Ping).
+  std::uint8_t first_id = 0;
+  std::uint8_t last_id = wire::kMaxIdFeetech;
+  /// How long to wait for a reply.
+  std::chrono::microseconds timeout{std::chrono::milliseconds(34)};
+};
+
+/// One servo a scan found and read.
+struct FoundServo {
+  std::uint32_t bps = 0;
+  wire::Protocol protocol = wire::Protocol::V2;
+  std::uint8_t id = 0;
+  std::uint16_t model_number = 0;
+  std::uint8_t firmware = 0;
+  /// The model (or the firmware variant) it is; nullptr when the library has no such model.
+  std::shared_ptr<const model::ModelSpec> spec;
+  /// Its non-volatile items as read (app/daemon/bus_state.hpp is_non_volatile), by address.
+  std::vector<std::pair<std::string, std::int64_t>> eeprom;
+};
+
+/// The rates a scan tries by default: every rate a model of `library` offers, the common ones
+/// first, then the others from the fastest down.
+std::vector<std::uint32_t> default_scan_bauds(const app::ModelLibrary& library);
+
+/// Scans a bus through `link` as a careful controller would: at each rate, a Protocol 2.0
+/// broadcast Ping, then a 1.0 Ping of every ID; each servo found is identified by its model
+/// number and firmware and its non-volatile items are read. Sends only Ping and Read: nothing on
+/// the bus changes. `progress` gets a line of text now and then; servos of a model the library
+/// lacks are returned with no spec and no items.
+std::vector<FoundServo> scan_bus(ScanLink& link, const app::ModelLibrary& library,
+                                 const ScanOptions& options,
+                                 const std::function<void(const std::string&)>& progress);
+
+}  // namespace dxlemu::scan

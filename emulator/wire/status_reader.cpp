@@ -1,0 +1,23 @@
+#include "wire/status_reader.hpp"
+
+#include "wire/instruction_decoder.hpp"
+
+namespace dxlemu::wire {
+
+void StatusReader::feed(std::span<const std::uint8_t> bytes, sim::SimTime at,
+                        std::vector<StatusPacket>& out) {
+  events_.clear();
+  framer_.feed(bytes, at, events_);
+  for (const FramerEvent& event : events_) {
+    const auto* frame = std::get_if<Frame>(&event);
+    if (frame == nullptr) {
+      continue;
+    }
+    auto status = decode_status(*frame);
+    if (auto* packet = std::get_if<StatusPacket>(&status)) {
+      out.push_back(std::move(*packet));
+    }
+  }
+}
+
+}  // namespace dxlemu::wire

@@ -1,0 +1,158 @@
+// dxlemu clone's scan on an emulated bus, on the virtual clock: what it finds, what it reads,
+// that it writes nothing, and the config it makes (docs/robots.md "Cloning a real bus").
+#include <catch2/catch.hpp>
+#include <variant>
+
+#include "app/config/clone_config.hpp"
+#include "bus/bus_rig.hpp"
+#include "scan/bus_scan.hpp"
+#include "wire/status_reader.hpp"
+
+namespace dxlemu {
+namespace {
+
+using namespace std::chrono_literals;
+
+const app::ModelLibrary& library() {
+  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
+  return lib;
+}
+
+/// A scan link onto a BusRig: each exchange runs the bus for a while and frames what came.
+class RigScanLink final : public scan::ScanLink {
+ public:
+  explicit RigScanLink(test::BusRig& rig) : rig_(rig) {}
+  void set_baud(std::uint32_t bps) override { bps_ = bps; }
+  std::vector<wire::StatusPacket> exchange(const wire::InstructionPacket& packet,
+                                           std::size_t max_replies,
+                                           std::chrono::microseconds timeout) override {
+    const std::size_t before = rig_.link.deliveries().size();
+    const bool reads = std::holds_alternative<wire::Ping>(packet.instruction) ||
+                       std::holds_alternative<wire::Read>(packet.instruction);
+    only_reads_ = only_reads_ && reads;
+    rig_.send(packet, bps_);
+    // Long enough for a broadcast Ping's chain of 2.0 replies.
+    rig_.run(timeout + 100ms);
+    ++sent_;
+    wire::StatusReader reader(packet.protocol);
+    std::vector<wire::StatusPacket> replies;
+    const auto& deliveries = rig_.link.deliveries();
+    for (std::size_t i = before; i < deliveries.size(); ++i) {
+      reader.feed(deliveries[i].bytes, deliveries[i].at, replies);
+    }
+    if (replies.size() > max_replies) {
+      replies.resize(max_replies);
+    }
+    return replies;
+  }
+  std::size_t sent() const { return sent_; }
+  /// Every packet sent was a Ping or a Read.
+  bool only_reads() const { return only_reads_; }
+
+ private:
+  test::BusRig& rig_;
+  std::uint32_t bps_ = 0;
+  std::size_t sent_ = 0;
+  bool only_reads_ = true;
+};
+
+scan::ScanOptions narrow(std::vector<std::uint32_t> bauds) {
+  scan::ScanOptions options;
+  options.bauds = std::move(bauds);
+  options.last_id = 12;
+  options.timeout = 5ms;
+  return options;
+}
+
+std::int64_t eeprom(const scan::FoundServo& servo, const std::string& key) {
+  for (const auto& [k, v] : servo.eeprom) {
+    if (k == key) {
+      return v;
+    }
+  }
+  FAIL("no " << key);
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("A scan finds 2.0 and 1.0 servos at their rates and reads their EEPROM, writing nothing",
+          "[app][clone]") {
+  test::BusRig rig;
+  model::Servo& xm = rig.add("xm430-w350", 3);  // 57600 at the factory
+  xm.table().set("homing_offset", -300);
+  model::Servo& ax = rig.add("ax-12a", 5);  // 1 Mbit/s at the factory
+  ax.table().set("cw_angle_limit", 100);
+  RigScanLink link(rig);
+  std::vector<std::string> lines;
+  const auto found = scan::scan_bus(link, library(), narrow({1'000'000, 57'600}),
+                                    [&](const std::string& line) { lines.push_back(line); });
+  REQUIRE(found.size() == 2);
+  CHECK(found[0].id == 5);
+  CHECK(found[0].bps == 1'000'000);
+  CHECK(found[0].protocol == wire::Protocol::V1);
+  REQUIRE(found[0].spec);
+  CHECK(found[0].spec->name == "ax-12a");
+  CHECK(eeprom(found[0], "cw_angle_limit") == 100);
+  CHECK(found[1].id == 3);
+  CHECK(found[1].bps == 57'600);
+  CHECK(found[1].protocol == wire::Protocol::V2);
+  REQUIRE(found[1].spec);
+  CHECK(found[1].spec->name == "xm430-w350");
+  CHECK(found[1].firmware == xm.table().get("firmware_version"));
+  CHECK(eeprom(found[1], "homing_offset") == -300);
+  CHECK(link.only_reads());
+  constexpr std::size_t kSweeps = 26;  // IDs 0 ~ 12 at two rates
+  CHECK(link.sent() > kSweeps);        // and the reads
+  CHECK(!lines.empty());
+
+  const auto config = app::clone_config(found, "/dev/ttyUSB0", "arm", "");
+  const auto& servos = config["ports"][0]["servos"];
+  REQUIRE(servos.size() == 2);
+  CHECK(servos[1]["model"] == "xm430-w350");
+  CHECK(servos[1]["id"] == 3);
+  // Only what differs from the factory values; the ID is the servo's own field.
+  CHECK(servos[1]["items"] == nlohmann::ordered_json{{"homing_offset", -300}});
+  CHECK(servos[0]["items"] == nlohmann::ordered_json{{"cw_angle_limit", 100}});
+  CHECK(!config["ports"][0].contains("link"));
+}
+
+TEST_CASE("A scan tells FEETECH servos from DYNAMIXEL 1.0 by where their model number is",
+          "[app][clone][feetech]") {
+  test::BusRig rig;
+  rig.add("feetech/sts3215", 1);
+  rig.add("feetech/scs0009", 2);  // big-endian table
+  RigScanLink link(rig);
+  scan::ScanOptions options = narrow({1'000'000});
+  options.v2 = false;
+  const auto found = scan::scan_bus(link, library(), options, [](const std::string&) {});
+  REQUIRE(found.size() == 2);
+  REQUIRE(found[0].spec);
+  CHECK(found[0].spec->name == "sts3215");
+  CHECK(found[0].protocol == wire::Protocol::Feetech);
+  CHECK(found[0].model_number == 777);
+  REQUIRE(found[1].spec);
+  CHECK(found[1].spec->name == "scs0009");
+  CHECK(found[1].model_number == 1284);
+}
+
+TEST_CASE("A servo of a model the library lacks is reported and left out of the config",
+          "[app][clone]") {
+  test::BusRig rig;
+  // A 1.0 servo's Model Number is read from its table: one the library does not know.
+  model::Servo& ax = rig.add("ax-12a", 3);
+  ax.table().set("model_number", 4242);
+  RigScanLink link(rig);
+  std::vector<std::string> lines;
+  const auto found = scan::scan_bus(link, library(), narrow({1'000'000}),
+                                    [&](const std::string& line) { lines.push_back(line); });
+  REQUIRE(found.size() == 1);
+  CHECK(found[0].spec == nullptr);
+  CHECK(found[0].model_number == 4242);
+  CHECK(std::any_of(lines.begin(), lines.end(), [](const std::string& line) {
+    return line.find("model number 4242 is not in the model library") != std::string::npos;
+  }));
+  CHECK(app::clone_config(found, "p", "dxl0", "")["ports"][0]["servos"].empty());
+}
+
+}  // namespace dxlemu
