@@ -95,12 +95,11 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::uint32_t bps
                               bytes = std::move(bytes), settlements = std::move(settlements)] {
     std::erase(outgoing_, outgoing);
     if (!outgoing->cancelled && !bytes.empty()) {
-      link_.set_line_rate(rate);
       // The modelled time, not now(): when it had passed before the event could run (bytes read
       // late off a busy machine), the link sees by how much. Never before the previous
       // delivery's: the line carries them in order.
       last_sent_ = std::max(at, last_sent_);
-      if (link_.deliver(bytes, last_sent_)) {
+      if (link_.deliver(bytes, last_sent_, rate)) {
         stats_.replies += is_reply ? 1 : 0;
       } else {
         ++stats_.unread_drops;

@@ -16,7 +16,8 @@ std::string ms(sim::SimDuration d) {
 LateReplyGuard::LateReplyGuard(ByteLink& next, Clock now, LateReplyPolicy policy, Warn warn)
     : next_(next), now_(std::move(now)), policy_(policy), warn_(std::move(warn)) {}
 
-bool LateReplyGuard::deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) {
+bool LateReplyGuard::deliver(std::span<const std::uint8_t> bytes, sim::SimTime at,
+                             std::uint32_t bps) {
   const sim::SimTime now = now_();
   const sim::SimDuration lateness = std::max(sim::SimDuration{0}, now - at);
   histogram_.add(lateness);
@@ -31,7 +32,7 @@ bool LateReplyGuard::deliver(std::span<const std::uint8_t> bytes, sim::SimTime a
     ++dropped_;
     return true;
   }
-  return next_.deliver(bytes, at);
+  return next_.deliver(bytes, at, bps);
 }
 
 void LateReplyGuard::note_late(sim::SimDuration lateness, bool dropped, sim::SimTime now) {

@@ -58,7 +58,7 @@ class LateReplyGuard : public ByteLink {
 
   /// Hands `bytes` to the next link unless they are later than the policy allows. A dropped
   /// delivery counts as delivered (true): the client was reading, the bytes were lost.
-  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
+  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps) override;
 
   /// The figures so far.
   LatenessSummary summary() const;

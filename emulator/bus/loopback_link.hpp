@@ -16,7 +16,8 @@ class LoopbackLink : public ByteLink {
     bool operator==(const Delivery&) const = default;
   };
 
-  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override {
+  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at,
+               std::uint32_t /*bps*/) override {
     if (!accepting_) {
       return false;
     }

@@ -29,10 +29,10 @@ UsbAdapterLink::~UsbAdapterLink() {
   }
 }
 
-bool UsbAdapterLink::deliver(std::span<const std::uint8_t> bytes, SimTime at) {
+bool UsbAdapterLink::deliver(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t bps) {
+  bps_ = bps;
   if (adapter_.latency == sim::SimDuration::zero()) {
-    downstream_.set_line_rate(bps_);
-    return downstream_.deliver(bytes, at);
+    return downstream_.deliver(bytes, at, bps_);
   }
   const std::size_t n = bytes.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -80,7 +80,7 @@ void UsbAdapterLink::send(SimTime sent) {
 
 void UsbAdapterLink::hand_on() {
   // A packet due while a status was still on the line goes when the bus hands it over (now).
-  if (!downstream_.deliver(buffer_, scheduler_.now())) {
+  if (!downstream_.deliver(buffer_, scheduler_.now(), bps_)) {
     ++unread_drops_;
   }
   buffer_.clear();

@@ -42,9 +42,8 @@ class UsbAdapterLink : public ByteLink {
   ~UsbAdapterLink() override;
 
   /// Buffers `bytes`, whose last byte arrived at `at` and the others one byte time apart before
-  /// it at the rate set_line_rate() gave, and sends on the USB packets that fill meanwhile.
-  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at) override;
-  void set_line_rate(std::uint32_t bps) override { bps_ = bps; }
+  /// it at `bps`, and sends on the USB packets that fill meanwhile.
+  bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps) override;
 
   /// The adapter's settings.
   const UsbAdapter& adapter() const { return adapter_; }
@@ -65,7 +64,7 @@ class UsbAdapterLink : public ByteLink {
   sim::Scheduler& scheduler_;
   ByteLink& downstream_;
   UsbAdapter adapter_;
-  std::uint32_t bps_ = 0;
+  std::uint32_t bps_ = 0;  // the line rate of the latest delivery, which the buffer ends with
   std::vector<std::uint8_t> buffer_;               // received, not yet sent to the host
   sim::SimTime last_packet_;                       // when the chip last sent a USB packet
   sim::SimTime last_byte_;                         // when the latest byte arrived

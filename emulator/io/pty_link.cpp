@@ -102,7 +102,8 @@ void PtyLink::read_more() {
                           });
 }
 
-bool PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/) {
+bool PtyLink::deliver(std::span<const std::uint8_t> bytes, sim::SimTime /*at*/,
+                      std::uint32_t /*bps*/) {
   if (write_queue_.empty()) {
     // The usual case: the PTY has room, and the reply goes out now without a queue entry.
     const std::size_t sent = write_now(bytes);

@@ -23,6 +23,7 @@ using std::chrono::milliseconds;
 using std::chrono::seconds;
 
 const std::vector<std::uint8_t> kReply{0xFF, 0xFF, 0xFD, 0x00, 0x01};
+constexpr std::uint32_t kBps = 1'000'000;  // the guard passes the line rate on untouched
 
 // A guard on a loopback link whose clock the test sets.
 struct Rig {
@@ -39,7 +40,7 @@ struct Rig {
   // Delivers kReply modelled for `at` while the clock reads `at + late`.
   bool deliver_late(SimTime at, SimDuration late) {
     now = at + late;
-    return guard.deliver(kReply, at);
+    return guard.deliver(kReply, at, kBps);
   }
 };
 

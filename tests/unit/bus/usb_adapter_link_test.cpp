@@ -34,13 +34,11 @@ struct AdapterRig {
   LoopbackLink client;
   UsbAdapterLink adapter;
 
-  explicit AdapterRig(UsbAdapter settings) : adapter(scheduler, client, settings) {
-    adapter.set_line_rate(kMbit);
-  }
+  explicit AdapterRig(UsbAdapter settings) : adapter(scheduler, client, settings) {}
   // The bus hands over `bytes` at `at`, the moment their last byte arrived.
   void status(const std::vector<std::uint8_t>& bytes, sim::SimTime at) {
     scheduler.advance_to(at);
-    CHECK(adapter.deliver(bytes, at));
+    CHECK(adapter.deliver(bytes, at, kMbit));
   }
 };
 
@@ -140,7 +138,7 @@ TEST_CASE("With no latency the adapter passes every delivery straight through", 
   CHECK(rig.client.deliveries() ==
         std::vector<LoopbackLink::Delivery>{{bytes_from(0, 100), at_us(1'000)}});
   rig.client.set_accepting(false);
-  CHECK_FALSE(rig.adapter.deliver(bytes_from(0, 1), at_us(1'000)));
+  CHECK_FALSE(rig.adapter.deliver(bytes_from(0, 1), at_us(1'000), kMbit));
 }
 
 // A bus behind the adapter, as the daemon builds a port with --adapter-latency-ms.
