@@ -15,4 +15,11 @@ if [ -n "$hits" ]; then
   echo "$hits"
   exit 1
 fi
+# The bus asks faults/ through bus::FaultHooks: faults/ depends on bus/, never the reverse.
+hits=$(grep -rn '#include "faults/' "$root/emulator/bus" --include='*.hpp' --include='*.cpp' || true)
+if [ -n "$hits" ]; then
+  echo "bus/ includes faults/ (the bus asks bus::FaultHooks, which faults/ implements):"
+  echo "$hits"
+  exit 1
+fi
 echo "core layers clean: ${core_dirs[*]#$root/}"

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "bus/bus_station.hpp"
+#include "bus/bus_node.hpp"
 
 namespace dxlemu::bus {
 
@@ -17,19 +17,19 @@ Bus::~Bus() = default;
 
 model::Servo& Bus::add_servo(std::unique_ptr<model::Servo> servo) {
   servos_.push_back(std::move(servo));
-  stations_.push_back(std::make_unique<Station>());
-  stations_.back()->servo = servos_.back().get();
-  stations_.back()->index = faults_.add_servo(*servos_.back());
+  nodes_.push_back(std::make_unique<Node>());
+  nodes_.back()->servo = servos_.back().get();
+  nodes_.back()->index = servos_.size() - 1;
   return *servos_.back();
 }
 
 bool Bus::booting(const model::Servo& servo) const {
-  const Station* s = station_of(servo);
+  const Node* s = node_of(servo);
   return s != nullptr && scheduler_.now() < s->booting_until;
 }
 
-Bus::Station* Bus::station_of(const model::Servo& servo) const {
-  for (const auto& s : stations_) {
+Bus::Node* Bus::node_of(const model::Servo& servo) const {
+  for (const auto& s : nodes_) {
     if (s->servo == &servo) {
       return s.get();
     }
@@ -38,12 +38,12 @@ Bus::Station* Bus::station_of(const model::Servo& servo) const {
 }
 
 bool Bus::attached(const model::Servo& servo) const {
-  const Station* s = station_of(servo);
+  const Node* s = node_of(servo);
   return s != nullptr && s->attached;
 }
 
 void Bus::detach(model::Servo& servo) {
-  Station* s = station_of(servo);
+  Node* s = node_of(servo);
   if (s == nullptr || !s->attached) {
     return;
   }
@@ -55,7 +55,7 @@ void Bus::detach(model::Servo& servo) {
 }
 
 void Bus::power_on(model::Servo& servo) {
-  Station* s = station_of(servo);
+  Node* s = node_of(servo);
   if (s == nullptr) {
     return;
   }
@@ -64,12 +64,14 @@ void Bus::power_on(model::Servo& servo) {
   s->attached = true;
   disarm_watchdog(*s);
   restart(*s, scheduler_.now());
-  faults_.powered_on(s->index);
+  if (faults_ != nullptr) {
+    faults_->powered_on(s->index);
+  }
 }
 
 BusStats Bus::stats() const {
   BusStats out = stats_;
-  out.faults_injected = faults_.injected();
+  out.faults_injected = faults_ != nullptr ? faults_->injected() : 0;
   return out;
 }
 
@@ -94,7 +96,7 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
   std::vector<std::pair<std::int64_t, wire::FramerEvent>> heard;
   for (wire::Framer* framer : {&v1_framer_, &v2_framer_, &feetech_framer_}) {
     const wire::Protocol protocol = framer->format().protocol;
-    if (std::none_of(stations_.begin(), stations_.end(),
+    if (std::none_of(nodes_.begin(), nodes_.end(),
                      [&](const auto& s) { return s->servo->protocol() == protocol; })) {
       continue;
     }
@@ -170,7 +172,9 @@ void Bus::catch_up(SimTime now) {
   for (const auto& servo : servos_) {
     servo->advance_to(now);
   }
-  faults_.follow(now);
+  if (faults_ != nullptr) {
+    faults_->follow(now);
+  }
 }
 
 void Bus::handle(const std::vector<wire::FramerEvent>& events) {
@@ -217,7 +221,7 @@ void Bus::rearm_watchdogs(const Packet& packet) {
   // packet a servo hears restarts its Bus Watchdog (includes/control_table_buswatchdog.md).
   const SimTime now = packet.heard.end;
   for (const Listener& l : packet.listening) {
-    Station* s = l.station;
+    Node* s = l.node;
     disarm_watchdog(*s);
     if (const auto period = s->servo->bus_watchdog_period()) {
       s->watchdog = scheduler_.schedule_at(now + *period, [s, expiry = now + *period] {
@@ -231,10 +235,10 @@ void Bus::rearm_watchdogs(const Packet& packet) {
   }
 }
 
-void Bus::disarm_watchdog(Station& station) {
-  if (station.watchdog) {
-    scheduler_.cancel(*station.watchdog);
-    station.watchdog.reset();
+void Bus::disarm_watchdog(Node& node) {
+  if (node.watchdog) {
+    scheduler_.cancel(*node.watchdog);
+    node.watchdog.reset();
   }
 }
 

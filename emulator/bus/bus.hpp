@@ -9,9 +9,9 @@
 
 #include "bus/bus_stats.hpp"
 #include "bus/byte_link.hpp"
+#include "bus/fault_hooks.hpp"
+#include "bus/heard_packet.hpp"
 #include "bus/read_request.hpp"
-#include "faults/injector.hpp"
-#include "faults/port_faults.hpp"
 #include "model/servo.hpp"
 #include "sim/scheduler.hpp"
 #include "wire/frame.hpp"
@@ -80,12 +80,10 @@ class Bus {
   /// Reports every packet both ways to `observer` from now on (replaces any earlier one).
   void set_observer(LineObserver observer) { observer_ = std::move(observer); }
 
-  /// Applies the rules of `injector` (owned by the caller; must outlive the bus, or be replaced
-  /// by nullptr first) to this bus, whose port rules name `port` (docs/faults.md). The bus follows
-  /// every later change of the rules by itself.
-  void set_faults(faults::Injector* injector, std::string port) {
-    faults_.set_rules(injector, std::move(port));
-  }
+  /// Asks `hooks` (owned by the caller; it must outlive the bus, or be replaced by nullptr
+  /// first) at every fault hook point from now on (faults::PortFaults applies a port's fault
+  /// rules: docs/faults.md); nullptr, as at the start: no faults.
+  void set_faults(FaultHooks* hooks) { faults_ = hooks; }
 
   /// Brings every servo's motion up to the scheduler's time (before reading a servo from
   /// outside the bus, e.g. the control API).
@@ -94,26 +92,29 @@ class Bus {
   BusStats stats() const;
 
  private:
-  struct Station;  // a servo and its bus-side state
-  Station* station_of(const model::Servo& servo) const;
+  struct Node;  // a servo on the line and its bus-side state
+  Node* node_of(const model::Servo& servo) const;
   struct Outgoing;
   /// A servo that hears the packet being handled, and how (the fault hooks' answer).
   struct Listener {
-    Station* station = nullptr;
-    faults::Hearing hearing;
+    Node* node = nullptr;
+    Hearing hearing;
   };
   /// The packet being handled: what was heard, when it ended on the line, and which servos hear
   /// it (on the line at its baud and protocol, awake, not silenced by a fault), in bus order.
   struct Packet {
-    faults::HeardPacket heard;
+    HeardPacket heard;
     std::vector<Listener> listening;
   };
   struct Reply {
-    Station* station = nullptr;
+    Node* node = nullptr;
     model::ServoResponse response;
     std::vector<std::uint8_t> bytes;
-    sim::SimDuration slow{0};  // injected extra processing time
+    sim::SimDuration extra_delay{0};  // injected extra processing time
   };
+  /// The replies that go out at the same time, one group after the other in a chain: normally
+  /// one reply; several when servos share an ID, and then their bytes collide.
+  using ReplyGroup = std::vector<Reply>;
 
   // Framing (bus.cpp).
   void handle(const std::vector<wire::FramerEvent>& events);
@@ -122,8 +123,11 @@ class Bus {
   void schedule_expiry();
   /// Runs every servo's motion up to `now`.
   void catch_up(sim::SimTime now);
+  /// True when the fault hooks may change something (FaultHooks::active): every hook is skipped
+  /// otherwise.
+  bool faulty() const { return faults_ != nullptr && faults_->active(); }
   void rearm_watchdogs(const Packet& packet);
-  void disarm_watchdog(Station& station);
+  void disarm_watchdog(Node& node);
 
   // Who hears a packet (bus_hearing.cpp).
   /// The packet as the servos on the line meet it; no fault hook has run yet.
@@ -145,31 +149,29 @@ class Bus {
   // What servos do with it (bus_instructions.cpp).
   void single(const Packet& packet);
   void group_read(const Packet& packet);
-  void fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
-                 const std::vector<std::vector<Reply>>& answered);
+  void fast_read(const Packet& packet, const std::vector<ReadPart>& parts,
+                 const std::vector<ReplyGroup>& answered);
   void group_write(const Packet& packet);
 
   // Replies (bus_replies.cpp).
-  /// The replies that go out in one time slot: normally one; several when servos share an ID,
-  /// and then their bytes collide.
-  using Slot = std::vector<Reply>;
-  void answer(const Packet& packet, const std::vector<Slot>& slots, sim::SimTime start_after);
+  void answer(const Packet& packet, const std::vector<ReplyGroup>& groups,
+              sim::SimTime start_after);
   /// A servo whose deferred effects apply when a reply goes out, and whether it then reboots.
   struct Settlement {
-    Station* station;
+    Node* node;
     bool reboot;
   };
   /// Delivers `bytes`, which crossed the line at `bps`, at `at`.
   void send_at(std::vector<std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps,
                wire::Protocol protocol, std::vector<Settlement> settlements, bool is_reply = true);
-  void settle(Station& station, bool reboot, sim::SimTime at);
-  /// Reboots `station`'s servo at `at`: it is silent while it boots.
-  void restart(Station& station, sim::SimTime at);
+  void settle(Node& node, bool reboot, sim::SimTime at);
+  /// Reboots `node`'s servo at `at`: it is silent while it boots.
+  void restart(Node& node, sim::SimTime at);
   Reply reply_of(const Listener& listener, model::ServoResponse response) const;
-  std::vector<std::uint8_t> status_bytes(const Station& station,
+  std::vector<std::uint8_t> status_bytes(const Node& node,
                                          const model::ServoResponse& response) const;
-  /// The protocol a station's status packets use (as it speaks when the instruction arrives).
-  static wire::Protocol status_protocol(const Station& station);
+  /// The protocol a node's status packets use (as it speaks when the instruction arrives).
+  static wire::Protocol status_protocol(const Node& node);
   /// Wire time of `bytes` at `bps`, or zero under ReplyTiming::Immediate.
   sim::SimDuration line_time(std::size_t bytes, std::uint32_t bps) const;
   /// When an instruction's last byte has crossed the line.
@@ -181,7 +183,7 @@ class Bus {
   sim::Scheduler& scheduler_;
   ByteLink& link_;
   std::vector<std::unique_ptr<model::Servo>> servos_;
-  std::vector<std::unique_ptr<Station>> stations_;
+  std::vector<std::unique_ptr<Node>> nodes_;
   wire::Framer v1_framer_{wire::Protocol::V1};
   wire::Framer v2_framer_{wire::Protocol::V2};
   /// FEETECH's frame is the 1.0 frame; its own framer names the packets FEETECH's.
@@ -196,7 +198,8 @@ class Bus {
   BusStats stats_;
   ReplyTiming timing_ = ReplyTiming::Modelled;
   LineObserver observer_;
-  faults::PortFaults faults_{scheduler_};
+  /// Where the fault hooks are asked; null: no faults.
+  FaultHooks* faults_ = nullptr;
 };
 
 }  // namespace dxlemu::bus

@@ -5,10 +5,10 @@
 #include <type_traits>
 
 #include "bus/bus.hpp"
-#include "bus/bus_station.hpp"
+#include "bus/bus_node.hpp"
 #include "bus/line_timing.hpp"
-#include "faults/packet_facts.hpp"
 #include "wire/instruction_decoder.hpp"
+#include "wire/listed_ids.hpp"
 
 namespace dxlemu::bus {
 
@@ -30,10 +30,11 @@ constexpr bool kIsGroupWrite =
 Bus::Packet Bus::arrival(wire::Protocol protocol, std::uint8_t id, std::uint8_t instruction,
                          const wire::InstructionPacket* decoded, SimTime end) const {
   Packet packet{{protocol, id, instruction, decoded, end}, {}};
-  for (const auto& s : stations_) {
+  const bool faulty = this->faulty();
+  for (const auto& s : nodes_) {
     if (s->attached && s->servo->protocol() == protocol &&
         baud_matches(client_bps_, s->servo->baud_bps()) && end >= s->booting_until &&
-        faults_.available(s->index, end)) {
+        (!faulty || faults_->available(s->index, end))) {
       packet.listening.push_back({s.get(), {}});
     }
   }
@@ -41,44 +42,44 @@ Bus::Packet Bus::arrival(wire::Protocol protocol, std::uint8_t id, std::uint8_t 
 }
 
 std::vector<std::uint8_t> Bus::fault_ids(const Packet& packet) {
-  const faults::HeardPacket& heard = packet.heard;
+  const HeardPacket& heard = packet.heard;
   if (heard.decoded != nullptr && is_group_instruction(heard.protocol, heard.instruction)) {
-    return faults::listed_ids(*heard.decoded);
+    return wire::listed_ids(*heard.decoded);
   }
   if (heard.id != wire::kBroadcastId) {
     return {heard.id};
   }
   std::vector<std::uint8_t> ids;
   for (const Listener& l : packet.listening) {
-    ids.push_back(l.station->servo->id());
+    ids.push_back(l.node->servo->id());
   }
   return ids;
 }
 
 void Bus::hear(Packet& packet) {
-  if (!faults_.active()) {
+  if (!faulty()) {
     return;
   }
   // The servos a packet is for: its ID (or Secondary ID), the IDs a Sync/Bulk instruction lists
   // (or their Secondary IDs), or every servo listening to a broadcast. The others take no part,
   // and no servo rule applies.
-  const faults::HeardPacket& heard = packet.heard;
+  const HeardPacket& heard = packet.heard;
   const bool broadcast = heard.id == wire::kBroadcastId;
   const std::vector<std::uint8_t> listed =
-      heard.decoded != nullptr ? faults::listed_ids(*heard.decoded) : std::vector<std::uint8_t>{};
+      heard.decoded != nullptr ? wire::listed_ids(*heard.decoded) : std::vector<std::uint8_t>{};
   std::vector<Listener> hearing;
   hearing.reserve(packet.listening.size());
   auto is_listed = [&listed](std::optional<std::uint8_t> id) {
     return id && std::find(listed.begin(), listed.end(), *id) != listed.end();
   };
   for (Listener& l : packet.listening) {
-    const std::uint8_t id = l.station->servo->id();
-    const std::optional<std::uint8_t> secondary = l.station->servo->secondary_id();
+    const std::uint8_t id = l.node->servo->id();
+    const std::optional<std::uint8_t> secondary = l.node->servo->secondary_id();
     // A Sync/Bulk Write block for a Secondary ID is for that group too (Bus::group_write).
     const bool for_it = broadcast ? listed.empty() || is_listed(id) || is_listed(secondary)
                                   : id == heard.id || secondary == heard.id;
     if (for_it) {
-      l.hearing = faults_.hear(heard, l.station->index);
+      l.hearing = faults_->hear(heard, l.node->index);
     }
     if (l.hearing.hears) {
       hearing.push_back(l);
@@ -90,7 +91,7 @@ void Bus::hear(Packet& packet) {
 std::vector<const Bus::Listener*> Bus::addressed(const Packet& packet, std::uint8_t id) {
   std::vector<const Listener*> out;
   for (const Listener& l : packet.listening) {
-    if (l.station->servo->id() == id) {
+    if (l.node->servo->id() == id) {
       out.push_back(&l);
     }
   }
@@ -102,8 +103,8 @@ void Bus::on_frame(const wire::Frame& frame) {
   Packet packet = arrival(frame.protocol, frame.id, frame.instruction,
                           std::get_if<wire::InstructionPacket>(&decoded), line_end(frame));
   const SimTime end = packet.heard.end;
-  if (faults_.active()) {
-    const faults::InstructionEffects effects = faults_.instruction(packet.heard, fault_ids(packet));
+  if (faulty()) {
+    const InstructionEffects effects = faults_->instruction(packet.heard, fault_ids(packet));
     if (effects.echo) {
       send_at(frame.raw, end, client_bps_, frame.protocol, {}, false);
     }
@@ -161,8 +162,8 @@ void Bus::answer_bad_check(Packet& packet, std::optional<std::uint8_t> instructi
   hear(packet);
   std::vector<Reply> replies;
   for (const Listener* l : addressed(packet, packet.heard.id)) {
-    model::ServoResponse r = l->station->servo->bad_check(instruction);
-    if (r.reply && l->hearing.answers) {
+    model::ServoResponse r = l->node->servo->bad_check(instruction);
+    if (r.replies && l->hearing.answers) {
       replies.push_back(reply_of(*l, std::move(r)));
     }
   }
@@ -172,8 +173,8 @@ void Bus::answer_bad_check(Packet& packet, std::optional<std::uint8_t> instructi
 void Bus::refuse(const Packet& packet, const wire::DecodeError& error) {
   std::vector<Reply> replies;
   for (const Listener* l : addressed(packet, packet.heard.id)) {
-    model::ServoResponse r = l->station->servo->refuse(error, false);
-    if (r.reply && l->hearing.answers) {
+    model::ServoResponse r = l->node->servo->refuse(error, false);
+    if (r.replies && l->hearing.answers) {
       replies.push_back(reply_of(*l, std::move(r)));
     }
   }

@@ -4,9 +4,9 @@
 #include <algorithm>
 
 #include "bus/bus.hpp"
-#include "bus/bus_station.hpp"
+#include "bus/bus_node.hpp"
 #include "bus/collision.hpp"
-#include "faults/packet_facts.hpp"
+#include "wire/listed_ids.hpp"
 #include "wire/packet_encoder.hpp"
 
 namespace dxlemu::bus {
@@ -19,7 +19,7 @@ void Bus::single(const Packet& packet) {
   const bool broadcast = instruction.id == wire::kBroadcastId;
   std::vector<std::pair<const Listener*, model::Addressing>> targets;
   for (const Listener& l : packet.listening) {
-    const model::Servo& servo = *l.station->servo;
+    const model::Servo& servo = *l.node->servo;
     if (broadcast) {
       targets.emplace_back(&l, model::Addressing::Broadcast);
     } else if (servo.id() == instruction.id) {
@@ -31,36 +31,36 @@ void Bus::single(const Packet& packet) {
   }
   // Broadcast Ping: every servo answers, in ascending ID order (protocol2.md "Ping" Example 2).
   std::stable_sort(targets.begin(), targets.end(), [](const auto& a, const auto& b) {
-    return a.first->station->servo->id() < b.first->station->servo->id();
+    return a.first->node->servo->id() < b.first->node->servo->id();
   });
   std::vector<Reply> replies;
   const auto* write = std::get_if<wire::Write>(&instruction.instruction);
   for (const auto& [l, addressing] : targets) {
-    Station& s = *l->station;
+    Node& s = *l->node;
     model::ServoResponse r = s.servo->execute(instruction, addressing);
-    if (write != nullptr) {
-      faults_.wrote(packet.heard, s.index, write->address, write->data);
+    if (write != nullptr && faulty()) {
+      faults_->wrote(packet.heard, s.index, write->address, write->data);
     }
-    if (r.reply && l->hearing.answers) {
+    if (r.replies && l->hearing.answers) {
       replies.push_back(reply_of(*l, std::move(r)));
     } else {
       settle(s, r.reboot_after, end);
     }
   }
-  // Protocol 2.0 chains broadcast Ping replies, one slot per ID (servos sharing an ID collide in
+  // Protocol 2.0 chains broadcast Ping replies, one group per ID (servos sharing an ID collide in
   // theirs); Protocol 1.0 defines no order, so 1.0 servos answer a broadcast Ping at once and
-  // collide when there are several. A unicast instruction has one slot (docs/bus.md).
-  std::vector<Slot> slots;
+  // collide when there are several. A unicast instruction has one group (docs/bus.md).
+  std::vector<ReplyGroup> groups;
   for (Reply& r : replies) {
-    const bool new_slot =
-        slots.empty() || (broadcast && instruction.protocol == wire::Protocol::V2 &&
-                          slots.back().front().station->servo->id() != r.station->servo->id());
-    if (new_slot) {
-      slots.emplace_back();
+    const bool new_group =
+        groups.empty() || (broadcast && instruction.protocol == wire::Protocol::V2 &&
+                           groups.back().front().node->servo->id() != r.node->servo->id());
+    if (new_group) {
+      groups.emplace_back();
     }
-    slots.back().push_back(std::move(r));
+    groups.back().push_back(std::move(r));
   }
-  answer(packet, slots, end);
+  answer(packet, groups, end);
 }
 
 void Bus::group_read(const Packet& packet) {
@@ -72,18 +72,18 @@ void Bus::group_read(const Packet& packet) {
   // than that can announce has no reply any device could send, so it goes unanswered.
   if (request.fast) {
     std::vector<std::size_t> sizes;
-    for (const ReadSlot& slot : request.slots) {
-      sizes.push_back(slot.length);
+    for (const ReadPart& part : request.parts) {
+      sizes.push_back(part.length);
     }
     if (!wire::fast_reply_length(sizes)) {
       return;
     }
   }
-  std::vector<Slot> answered;  // one per listed device that answers, in list order
-  for (const ReadSlot& slot : request.slots) {
-    std::vector<const Listener*> matches = addressed(packet, slot.id);
+  std::vector<ReplyGroup> answered;  // one per listed device that answers, in list order
+  for (const ReadPart& part : request.parts) {
+    std::vector<const Listener*> matches = addressed(packet, part.id);
     std::erase_if(matches, [&](const Listener* l) {
-      const model::Servo& servo = *l->station->servo;
+      const model::Servo& servo = *l->node->servo;
       return !servo.replies_to(true) || (request.fast && !servo.supports_fast_read()) ||
              (request.v1_bulk && !servo.supports_v1_bulk_read());
     });
@@ -92,12 +92,12 @@ void Bus::group_read(const Packet& packet) {
     if (matches.empty()) {
       break;
     }
-    Slot& out = answered.emplace_back();
+    ReplyGroup& out = answered.emplace_back();
     for (const Listener* l : matches) {  // servos sharing the ID all answer, and collide
-      model::ServoResponse r = l->station->servo->read_part(slot.address, slot.length);
+      model::ServoResponse r = l->node->servo->read_part(part.address, part.length);
       if (request.fast) {
-        r.params.resize(slot.length, 0);  // a failed read still fills its block (docs/bus.md)
-        out.push_back({l->station, std::move(r), {}, l->hearing.slow});
+        r.params.resize(part.length, 0);  // a failed read still fills its block (docs/bus.md)
+        out.push_back({l->node, std::move(r), {}, l->hearing.extra_delay});
       } else {
         out.push_back(reply_of(*l, std::move(r)));
       }
@@ -107,32 +107,32 @@ void Bus::group_read(const Packet& packet) {
     return;
   }
   if (request.fast) {
-    fast_read(packet, request.slots, answered);
+    fast_read(packet, request.parts, answered);
   } else {
     answer(packet, answered, packet.heard.end);
   }
 }
 
-void Bus::fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
-                    const std::vector<Slot>& answered) {
+void Bus::fast_read(const Packet& packet, const std::vector<ReadPart>& parts,
+                    const std::vector<ReplyGroup>& answered) {
   // Fast Sync/Bulk Read: one packet from ID 0xFE, charged one processing time and one Return
   // Delay Time (the first device's). If the chain broke, LENGTH still announces every listed
   // device and the packet stops after the last block sent: the client sees it cut short. Where
   // servos share an ID, each sends its own version of the packet at once: they collide.
   std::size_t versions = 0;
-  for (const Slot& slot : answered) {
-    versions = std::max(versions, slot.size());
-    stats_.id_conflicts += slot.size() > 1 ? 1 : 0;
+  for (const ReplyGroup& group : answered) {
+    versions = std::max(versions, group.size());
+    stats_.id_conflicts += group.size() > 1 ? 1 : 0;
   }
   std::vector<std::vector<std::uint8_t>> packets;
   for (std::size_t v = 0; v < versions; ++v) {
     wire::FastReply reply;
-    for (std::size_t i = 0; i < slots.size(); ++i) {
+    for (std::size_t i = 0; i < parts.size(); ++i) {
       if (i < answered.size()) {
         const Reply& r = answered[i][std::min(v, answered[i].size() - 1)];
-        reply.blocks.push_back({r.response.error, slots[i].id, r.response.params});
+        reply.blocks.push_back({r.response.error, parts[i].id, r.response.params});
       } else {
-        reply.blocks.push_back({0, slots[i].id, std::vector<std::uint8_t>(slots[i].length, 0)});
+        reply.blocks.push_back({0, parts[i].id, std::vector<std::uint8_t>(parts[i].length, 0)});
       }
     }
     packets.push_back(wire::encode_fast_reply(reply, answered.size()));
@@ -140,18 +140,21 @@ void Bus::fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
   const Reply& first = answered.front().front();
   std::vector<Settlement> settlements;
   std::vector<std::uint8_t> ids;
-  for (const Slot& slot : answered) {
-    for (const Reply& r : slot) {
-      settlements.push_back({r.station, false});
-      ids.push_back(r.station->servo->id());
+  for (const ReplyGroup& group : answered) {
+    for (const Reply& r : group) {
+      settlements.push_back({r.node, false});
+      ids.push_back(r.node->servo->id());
     }
   }
   std::vector<std::uint8_t> bytes = collide(packets);
   const std::size_t sent_size = bytes.size();
-  const faults::ReplyEffects effects =
-      faults_.reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
+  ReplyEffects effects;
+  if (faulty()) {
+    effects =
+        faults_->reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
+  }
   const SimTime start = packet.heard.end + turnaround(first) + effects.delay;
-  const std::uint32_t bps = first.station->servo->baud_bps();
+  const std::uint32_t bps = first.node->servo->baud_bps();
   const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(), bps);
   send_at(std::move(bytes), delivered, bps, wire::Protocol::V2, std::move(settlements));
 }
@@ -160,11 +163,11 @@ void Bus::group_write(const Packet& packet) {
   if (packet.heard.id != wire::kBroadcastId) {
     return;  // "The Packet ID must be 0xFE"
   }
-  const std::vector<std::uint8_t> listed = faults::listed_ids(*packet.heard.decoded);
+  const std::vector<std::uint8_t> listed = wire::listed_ids(*packet.heard.decoded);
   auto write_to = [&](std::uint8_t id, std::uint16_t address,
                       const std::vector<std::uint8_t>& data) {
     for (const Listener& l : packet.listening) {
-      Station& s = *l.station;
+      Node& s = *l.node;
       const model::Servo& servo = *s.servo;
       // A block for a servo's Secondary ID is its group's too, RAM only, unless the packet has
       // a block for its own ID, which has priority (docs/bus.md "Secondary (Shadow) ID").
@@ -176,7 +179,9 @@ void Bus::group_write(const Packet& packet) {
         continue;
       }
       s.servo->write_part(address, data);
-      faults_.wrote(packet.heard, s.index, address, data);
+      if (faulty()) {
+        faults_->wrote(packet.heard, s.index, address, data);
+      }
       settle(s, false, packet.heard.end);
     }
   };

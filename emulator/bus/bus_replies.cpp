@@ -1,10 +1,10 @@
 // When replies reach the client: instruction wire time, processing, Return Delay Time and status
-// wire time on the virtual clock (DESIGN.md "Time"), chained slot after slot; and what applies
+// wire time on the virtual clock (DESIGN.md "Time"), chained group after group; and what applies
 // once a status is out (deferred identity changes, reboots).
 #include <algorithm>
 
 #include "bus/bus.hpp"
-#include "bus/bus_station.hpp"
+#include "bus/bus_node.hpp"
 #include "bus/collision.hpp"
 #include "bus/line_timing.hpp"
 #include "wire/packet_encoder.hpp"
@@ -31,57 +31,59 @@ SimTime Bus::line_end(const wire::Frame& frame) const {
 
 SimDuration Bus::turnaround(const Reply& reply) const {
   if (timing_ == ReplyTiming::Immediate) {
-    return reply.slow;  // an injected delay shows in every timing mode
+    return reply.extra_delay;  // an injected delay shows in every timing mode
   }
-  return reply.response.processing + reply.station->servo->return_delay() + reply.slow;
+  return reply.response.processing + reply.node->servo->return_delay() + reply.extra_delay;
 }
 
 Bus::Reply Bus::reply_of(const Listener& listener, model::ServoResponse response) const {
-  std::vector<std::uint8_t> bytes = status_bytes(*listener.station, response);
-  return {listener.station, std::move(response), std::move(bytes), listener.hearing.slow};
+  std::vector<std::uint8_t> bytes = status_bytes(*listener.node, response);
+  return {listener.node, std::move(response), std::move(bytes), listener.hearing.extra_delay};
 }
 
-wire::Protocol Bus::status_protocol(const Station& station) {
-  return station.servo->protocol().value_or(wire::Protocol::V2);
+wire::Protocol Bus::status_protocol(const Node& node) {
+  return node.servo->protocol().value_or(wire::Protocol::V2);
 }
 
-std::vector<std::uint8_t> Bus::status_bytes(const Station& station,
+std::vector<std::uint8_t> Bus::status_bytes(const Node& node,
                                             const model::ServoResponse& response) const {
   return wire::encode_status(
-      {status_protocol(station), station.servo->id(), response.error, response.params});
+      {status_protocol(node), node.servo->id(), response.error, response.params});
 }
 
-void Bus::answer(const Packet& packet, const std::vector<Slot>& slots, SimTime start_after) {
-  // A reply starts after the instruction (or the previous slot) ends, plus the servo's own
+void Bus::answer(const Packet& packet, const std::vector<ReplyGroup>& groups, SimTime start_after) {
+  // A reply starts after the instruction (or the previous group) ends, plus the servo's own
   // processing time and Return Delay Time, and reaches the client when its last byte would.
   SimTime after = start_after;
-  for (const Slot& slot : slots) {
-    if (slot.empty()) {
+  for (const ReplyGroup& group : groups) {
+    if (group.empty()) {
       continue;
     }
-    SimTime slot_end = after;
+    SimTime group_end = after;
     std::vector<std::vector<std::uint8_t>> packets;
     std::vector<Settlement> settlements;
-    for (const Reply& r : slot) {
+    for (const Reply& r : group) {
       std::vector<std::uint8_t> bytes = r.bytes;
-      const faults::ReplyEffects effects =
-          faults_.reply(packet.heard, {r.station->servo->id()}, bytes, status_protocol(*r.station),
-                        scheduler_.now());
+      ReplyEffects effects;
+      if (faulty()) {
+        effects = faults_->reply(packet.heard, {r.node->servo->id()}, bytes,
+                                 status_protocol(*r.node), scheduler_.now());
+      }
       const SimTime start = after + turnaround(r) + effects.delay;
       // A dropped status still took its time on the line: the chain after it keeps its timing.
       const std::size_t on_line = effects.dropped ? r.bytes.size() : bytes.size();
-      slot_end = std::max(slot_end, start + line_time(on_line, r.station->servo->baud_bps()));
+      group_end = std::max(group_end, start + line_time(on_line, r.node->servo->baud_bps()));
       if (!bytes.empty()) {
         packets.push_back(std::move(bytes));
       }
-      settlements.push_back({r.station, r.response.reboot_after});
+      settlements.push_back({r.node, r.response.reboot_after});
     }
-    if (slot.size() > 1) {
+    if (group.size() > 1) {
       ++stats_.id_conflicts;
     }
-    send_at(collide(packets), slot_end, slot.front().station->servo->baud_bps(),
-            status_protocol(*slot.front().station), std::move(settlements));
-    after = slot_end;
+    send_at(collide(packets), group_end, group.front().node->servo->baud_bps(),
+            status_protocol(*group.front().node), std::move(settlements));
+    after = group_end;
   }
 }
 
@@ -110,23 +112,25 @@ void Bus::send_at(std::vector<std::uint8_t> bytes, SimTime at, std::uint32_t bps
     }
     // ID, Baud Rate, Protocol Type and Return Delay Time change after the status went out.
     for (const Settlement& s : settlements) {
-      settle(*s.station, s.reboot, scheduler_.now());
+      settle(*s.node, s.reboot, scheduler_.now());
     }
   });
 }
 
-void Bus::settle(Station& station, bool reboot, SimTime at) {
-  station.servo->advance_to(at);
-  station.servo->commit_deferred();
+void Bus::settle(Node& node, bool reboot, SimTime at) {
+  node.servo->advance_to(at);
+  node.servo->commit_deferred();
   if (reboot) {
-    restart(station, at);
+    restart(node, at);
   }
 }
 
-void Bus::restart(Station& station, SimTime at) {
-  station.servo->reboot();
-  faults_.rebooted(station.index);
-  station.booting_until = at + station.servo->boot_time();
+void Bus::restart(Node& node, SimTime at) {
+  node.servo->reboot();
+  if (faults_ != nullptr) {
+    faults_->rebooted(node.index);
+  }
+  node.booting_until = at + node.servo->boot_time();
 }
 
 }  // namespace dxlemu::bus

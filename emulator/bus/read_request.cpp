@@ -7,10 +7,10 @@ namespace dxlemu::bus {
 
 ReadRequest read_request(const wire::InstructionPacket& packet) {
   ReadRequest out;
-  auto add = [&](const ReadSlot& slot) {
-    if (std::none_of(out.slots.begin(), out.slots.end(),
-                     [&](const ReadSlot& s) { return s.id == slot.id; })) {
-      out.slots.push_back(slot);
+  auto add = [&](const ReadPart& part) {
+    if (std::none_of(out.parts.begin(), out.parts.end(),
+                     [&](const ReadPart& s) { return s.id == part.id; })) {
+      out.parts.push_back(part);
     }
   };
   std::visit(

@@ -8,7 +8,7 @@
 namespace dxlemu::bus {
 
 /// One device's part of a Sync/Bulk Read, in request order.
-struct ReadSlot {
+struct ReadPart {
   std::uint8_t id = 0;
   std::uint16_t address = 0;
   std::uint16_t length = 0;
@@ -21,10 +21,10 @@ struct ReadRequest {
   /// The listed devices' parts, each ID once (the first listed; protocol1.md "Bulk Read": "If an
   /// identical ID is designated multiple times, only the first designated parameter will be
   /// processed"). A servo handles a packet once, so Sync Read too.
-  std::vector<ReadSlot> slots;
+  std::vector<ReadPart> parts;
 };
 
-/// The read `packet` asks for; empty slots when it is not a group read.
+/// The read `packet` asks for; no parts when it is not a group read.
 ReadRequest read_request(const wire::InstructionPacket& packet);
 
 /// True for the instruction bytes of `protocol` that are only heard from the broadcast ID and list

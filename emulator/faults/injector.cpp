@@ -103,8 +103,8 @@ void Injector::fire(std::initializer_list<Action> actions, const PacketFacts& fa
   }
 }
 
-InstructionEffects Injector::instruction(const PacketFacts& facts) {
-  InstructionEffects out;
+bus::InstructionEffects Injector::instruction(const PacketFacts& facts) {
+  bus::InstructionEffects out;
   fire({Action::CorruptInstruction, Action::EchoInstruction, Action::Noise}, facts, [&](Entry& e) {
     if (e.rule.action == Action::CorruptInstruction) {
       out.corrupt = true;
@@ -140,9 +140,9 @@ sim::SimDuration Injector::eeprom_write(const PacketFacts& facts, std::size_t ee
   return deaf;
 }
 
-ReplyEffects Injector::reply(const PacketFacts& facts, std::vector<std::uint8_t>& packet,
-                             wire::Protocol protocol) {
-  ReplyEffects out;
+bus::ReplyEffects Injector::reply(const PacketFacts& facts, std::vector<std::uint8_t>& packet,
+                                  wire::Protocol protocol) {
+  bus::ReplyEffects out;
   std::vector<std::uint8_t> before;  // garbage_before, in rule order
   bool duplicate = false;
   fire({Action::DropReply, Action::DelayReply, Action::CorruptCrc, Action::FlipBits,

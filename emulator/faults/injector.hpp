@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "bus/fault_hooks.hpp"
 #include "faults/rule.hpp"
 #include "model/motion/hardware_fault.hpp"
 #include "sim/rng.hpp"
@@ -31,27 +32,12 @@ struct PacketFacts {
   wire::Protocol protocol = wire::Protocol::V2;
 };
 
-/// What happens to an instruction on its way to the servos (and back to the client, for echo).
-struct InstructionEffects {
-  bool corrupt = false;             ///< the servos hear a wrong CRC or checksum
-  bool echo = false;                ///< the client reads the instruction back
-  std::vector<std::uint8_t> noise;  ///< random bytes the client reads after the instruction
-  bool any() const { return corrupt || echo || !noise.empty(); }
-};
-
 /// What happens to one servo's handling of a packet.
 struct ServoEffects {
   bool silence = false;               ///< the servo ignores the packet
   bool silence_until_reboot = false;  ///< the servo ignores everything until a Reboot
   sim::SimDuration slow{0};           ///< extra processing time
   bool any() const { return silence || silence_until_reboot || slow.count() != 0; }
-};
-
-/// What happened to one status packet on its way to the client.
-struct ReplyEffects {
-  bool dropped = false;       ///< nothing arrives
-  sim::SimDuration delay{0};  ///< it (and the chain after it) arrives this much later
-  bool any = false;           ///< some rule fired (for the bus's counter)
 };
 
 /// The fault rules of a daemon and their state: which fired how often, each rule's own random
@@ -92,15 +78,15 @@ class Injector {
   void unsubscribe(std::uint64_t key);
 
   /// Hook: an instruction packet was heard on `facts.port`.
-  InstructionEffects instruction(const PacketFacts& facts);
+  bus::InstructionEffects instruction(const PacketFacts& facts);
   /// Hook: a servo (facts.ids holds its ID) is about to hear a packet.
   ServoEffects servo(const PacketFacts& facts);
   /// Hook: a servo wrote `eeprom_bytes` EEPROM bytes; returns how long it stays deaf.
   sim::SimDuration eeprom_write(const PacketFacts& facts, std::size_t eeprom_bytes);
   /// Hook: `packet` (a status of `protocol` from the servos in facts.ids, answering
   /// facts.instruction) is about to go out; damages it in place.
-  ReplyEffects reply(const PacketFacts& facts, std::vector<std::uint8_t>& packet,
-                     wire::Protocol protocol);
+  bus::ReplyEffects reply(const PacketFacts& facts, std::vector<std::uint8_t>& packet,
+                          wire::Protocol protocol);
 
   /// The hardware errors that rules impose on servo `id` of `port` at `now`.
   model::FaultSet hardware_faults(std::string_view port, std::uint8_t id, sim::SimTime now) const;

@@ -47,28 +47,6 @@ std::optional<Span> bulk_span(const std::vector<Target>& targets, std::optional<
 
 }  // namespace
 
-std::vector<std::uint8_t> listed_ids(const wire::InstructionPacket& packet) {
-  std::vector<std::uint8_t> ids;
-  const auto add = [&](std::uint8_t id) {
-    if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
-      ids.push_back(id);
-    }
-  };
-  std::visit(
-      [&](const auto& ins) {
-        using T = std::decay_t<decltype(ins)>;
-        if constexpr (std::is_base_of_v<wire::SyncRead, T>) {
-          std::for_each(ins.ids.begin(), ins.ids.end(), add);
-        } else if constexpr (requires { ins.targets; }) {
-          for (const auto& t : ins.targets) {
-            add(t.id);
-          }
-        }
-      },
-      packet.instruction);
-  return ids;
-}
-
 std::optional<Span> span_of(const wire::InstructionPacket& packet, std::optional<std::uint8_t> id) {
   return std::visit(
       [&](const auto& ins) -> std::optional<Span> {

@@ -9,9 +9,6 @@
 
 namespace dxlemu::faults {
 
-/// The IDs a Sync or Bulk instruction lists (in order, each once), or empty for any other.
-std::vector<std::uint8_t> listed_ids(const wire::InstructionPacket& packet);
-
 /// The control-table addresses `packet` reads or writes, first and last. For Bulk Read/Write,
 /// the part of servo `id` (or, without an ID, the span covering every part). Nullopt for
 /// instructions without an address, or a zero length.

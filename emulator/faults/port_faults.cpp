@@ -6,7 +6,8 @@
 
 namespace dxlemu::faults {
 
-PortFaults::PortFaults(sim::Scheduler& scheduler) : scheduler_(scheduler) {}
+PortFaults::PortFaults(sim::Scheduler& scheduler, const Servos& servos)
+    : scheduler_(scheduler), servos_(servos) {}
 
 PortFaults::~PortFaults() {
   if (injector_ != nullptr) {
@@ -26,16 +27,24 @@ void PortFaults::set_rules(Injector* injector, std::string port) {
   refresh();
 }
 
-std::size_t PortFaults::add_servo(model::Servo& servo) {
-  stations_.push_back({&servo});
-  return stations_.size() - 1;
+PortFaults::ServoFaultState& PortFaults::state_of(std::size_t servo) {
+  if (servo >= states_.size()) {
+    states_.resize(servos_.size());
+  }
+  return states_[servo];
+}
+
+void PortFaults::note_state() {
+  stateful_ = std::any_of(states_.begin(), states_.end(), [](const ServoFaultState& s) {
+    return s.silent_until_reboot || s.deaf_until != sim::SimTime{};
+  });
 }
 
 bool PortFaults::available(std::size_t servo, sim::SimTime at) const {
-  return at >= stations_[servo].deaf_until;
+  return servo >= states_.size() || at >= states_[servo].deaf_until;
 }
 
-PacketFacts PortFaults::facts(const HeardPacket& packet, std::vector<std::uint8_t> ids,
+PacketFacts PortFaults::facts(const bus::HeardPacket& packet, std::vector<std::uint8_t> ids,
                               sim::SimTime at) const {
   PacketFacts f{port_, packet.instruction, std::move(ids), std::nullopt, at, packet.protocol};
   if (packet.decoded != nullptr) {
@@ -45,26 +54,30 @@ PacketFacts PortFaults::facts(const HeardPacket& packet, std::vector<std::uint8_
   return f;
 }
 
-InstructionEffects PortFaults::instruction(const HeardPacket& packet,
-                                           std::vector<std::uint8_t> ids) {
+bus::InstructionEffects PortFaults::instruction(const bus::HeardPacket& packet,
+                                                std::vector<std::uint8_t> ids) {
   if (injector_ == nullptr) {
     return {};
   }
-  InstructionEffects effects = injector_->instruction(facts(packet, std::move(ids), packet.end));
+  bus::InstructionEffects effects =
+      injector_->instruction(facts(packet, std::move(ids), packet.end));
   count(effects.any());
   return effects;
 }
 
-Hearing PortFaults::hear(const HeardPacket& packet, std::size_t servo) {
+bus::Hearing PortFaults::hear(const bus::HeardPacket& packet, std::size_t servo) {
   if (injector_ == nullptr) {
     return {};
   }
-  Station& s = stations_[servo];
-  const std::uint8_t id = s.servo->id();
+  ServoFaultState& s = state_of(servo);
+  const std::uint8_t id = servos_[servo]->id();
   const ServoEffects effects = injector_->servo(facts(packet, {id}, packet.end));
   count(effects.any());
-  s.silent_until_reboot = s.silent_until_reboot || effects.silence_until_reboot;
-  Hearing out{!effects.silence, true, effects.slow};
+  if (effects.silence_until_reboot && !s.silent_until_reboot) {
+    s.silent_until_reboot = true;
+    stateful_ = true;
+  }
+  bus::Hearing out{!effects.silence, true, effects.slow};
   if (s.silent_until_reboot) {
     // Its firmware still reacts to a Reboot sent to its own ID, without answering.
     const bool reboot = packet.instruction == wire::to_byte(wire::InstructionCode::Reboot) &&
@@ -74,42 +87,50 @@ Hearing PortFaults::hear(const HeardPacket& packet, std::size_t servo) {
   return out;
 }
 
-void PortFaults::wrote(const HeardPacket& packet, std::size_t servo, std::uint16_t address,
+void PortFaults::wrote(const bus::HeardPacket& packet, std::size_t servo, std::uint16_t address,
                        std::span<const std::uint8_t> data) {
   if (injector_ == nullptr) {
     return;
   }
-  Station& s = stations_[servo];
-  const std::size_t stored = s.servo->table().eeprom_bytes_holding(address, data);
+  const model::Servo& written = *servos_[servo];
+  const std::size_t stored = written.table().eeprom_bytes_holding(address, data);
   if (stored == 0) {
     return;
   }
   const sim::SimDuration busy =
-      injector_->eeprom_write(facts(packet, {s.servo->id()}, packet.end), stored);
+      injector_->eeprom_write(facts(packet, {written.id()}, packet.end), stored);
   if (busy.count() > 0) {
     count(true);
+    ServoFaultState& s = state_of(servo);
     s.deaf_until = std::max(s.deaf_until, packet.end + busy);
+    stateful_ = true;
   }
 }
 
-ReplyEffects PortFaults::reply(const HeardPacket& packet, std::vector<std::uint8_t> ids,
-                               std::vector<std::uint8_t>& bytes, wire::Protocol protocol,
-                               sim::SimTime at) {
+bus::ReplyEffects PortFaults::reply(const bus::HeardPacket& packet, std::vector<std::uint8_t> ids,
+                                    std::vector<std::uint8_t>& bytes, wire::Protocol protocol,
+                                    sim::SimTime at) {
   if (injector_ == nullptr) {
     return {};
   }
-  const ReplyEffects effects = injector_->reply(facts(packet, std::move(ids), at), bytes, protocol);
+  const bus::ReplyEffects effects =
+      injector_->reply(facts(packet, std::move(ids), at), bytes, protocol);
   count(effects.any);
   return effects;
 }
 
 void PortFaults::rebooted(std::size_t servo) {
-  stations_[servo].silent_until_reboot = false;
+  if (servo < states_.size() && states_[servo].silent_until_reboot) {
+    states_[servo].silent_until_reboot = false;
+    note_state();
+  }
 }
 
 void PortFaults::powered_on(std::size_t servo) {
-  rebooted(servo);
-  stations_[servo].deaf_until = {};
+  if (servo < states_.size()) {
+    states_[servo] = {};
+    note_state();
+  }
 }
 
 void PortFaults::follow(sim::SimTime now) {
@@ -124,8 +145,8 @@ void PortFaults::refresh() {
     window_.reset();
   }
   const sim::SimTime now = scheduler_.now();
-  for (const Station& s : stations_) {
-    s.servo->advance_to(now);
+  for (const auto& servo : servos_) {
+    servo->advance_to(now);
   }
   apply_hardware_faults(now);
   if (injector_ == nullptr) {
@@ -140,12 +161,12 @@ void PortFaults::refresh() {
 }
 
 void PortFaults::apply_hardware_faults(sim::SimTime now) {
-  for (const Station& s : stations_) {
+  for (const auto& servo : servos_) {
     const model::FaultSet faults =
-        injector_ != nullptr ? injector_->hardware_faults(port_, s.servo->id(), now) : 0;
-    if (faults != s.servo->motion().injected()) {
-      s.servo->advance_to(now);
-      s.servo->motion().set_injected(faults);
+        injector_ != nullptr ? injector_->hardware_faults(port_, servo->id(), now) : 0;
+    if (faults != servo->motion().injected()) {
+      servo->advance_to(now);
+      servo->motion().set_injected(faults);
     }
   }
 }

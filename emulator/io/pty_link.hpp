@@ -42,9 +42,9 @@ class PtyLink : public bus::ByteLink {
   /// Starts reading; `on_bytes` is called on the io_context's thread for each chunk.
   void start(OnBytes on_bytes);
 
-  /// Writes `bytes` to the client (queued; never blocks). `at` and `bps` are not used: the driver calls this
-  /// at the right moment. While 64 KiB wait for room in the PTY (the client reads nothing),
-  /// further packets are dropped.
+  /// Writes `bytes` to the client (queued; never blocks). `at` and `bps` are not used: the driver
+  /// calls this at the right moment. While 64 KiB wait for room in the PTY (the client reads
+  /// nothing), further packets are dropped.
   bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps) override;
 
  private:

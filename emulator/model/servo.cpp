@@ -161,7 +161,7 @@ bool Servo::supports_v1_bulk_read() const {
 
 ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   ServoResponse r;
-  r.reply = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
+  r.replies = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   r.processing = write_time(0);
   if (protocol_ == wire::Protocol::Feetech) {
     r.error = v1_error(spec().refusals().checksum);
@@ -188,7 +188,7 @@ sim::SimDuration Servo::write_time(std::size_t bytes) const {
 
 ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration processing) const {
   ServoResponse r;
-  r.reply = true;
+  r.replies = true;
   r.error = error_byte(result.error);
   r.processing = processing;
   return r;
@@ -213,7 +213,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
         if constexpr (std::is_same_v<T, wire::Ping>) {
           // Ping is answered whatever the Status Return Level, broadcast too (protocol2.md "Ping").
           ServoResponse ping;
-          ping.reply = true;
+          ping.replies = true;
           ping.error = error_byte(TableError::None);
           ping.processing = microseconds(timing.ping_us);
           if (packet.protocol == wire::Protocol::V2) {
@@ -265,7 +265,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           }
           reboot.reboot_after = true;
           // FEETECH Restart: "status frame: none".
-          reboot.reply = spec().traits().reboot_status;
+          reboot.replies = spec().traits().reboot_status;
           return reboot;
         } else if constexpr (std::is_same_v<T, wire::Clear>) {
           return do_clear(ins);
@@ -289,7 +289,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
   }
   // No status to broadcast instructions (protocol2.md "Packet ID"); Status Return Level
   // suppresses the status but not the effect (includes/control_table_status_return_lv.md).
-  r.reply = r.reply && !broadcast && srl_allows;
+  r.replies = r.replies && !broadcast && srl_allows;
   return r;
 }
 
@@ -340,7 +340,7 @@ void Servo::expire_bus_watchdog() {
 ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {
   ServoResponse r;
   const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
-  r.reply = !broadcast && replies_to(is_read);
+  r.replies = !broadcast && replies_to(is_read);
   r.processing = write_time(0);
   if (protocol_ == wire::Protocol::Feetech) {
     const RefusalBits bits = spec().refusals();
@@ -360,7 +360,7 @@ ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) cons
 
 ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
   ServoResponse r;
-  r.reply = true;
+  r.replies = true;
   r.processing = microseconds(spec().timing.read_us);
   // More data than a 1.0 status can carry (an X in 1.0 mode has a table long enough to read it):
   // no status could answer with it, so it is refused as "out of the range for use" (protocol1.md
@@ -386,7 +386,7 @@ ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
   // protocol1.md: "Broadcast ID(0xFE) cannot be used for Factory Reset instruction"; protocol2.md:
   // broadcast with option 0xFF is not executed (MX(2.0) and X from firmware 42).
   if (broadcast && (protocol_ == wire::Protocol::V1 || option == wire::factory_reset::kResetAll)) {
-    r.reply = false;
+    r.replies = false;
     return r;
   }
   const std::int64_t id = table_.get("id");

@@ -21,7 +21,7 @@ enum class Addressing { Unicast, Broadcast, Secondary };
 
 /// What a servo answers to one instruction, before the bus frames and times it.
 struct ServoResponse {
-  bool reply = false;      ///< false: the servo stays silent
+  bool replies = false;    ///< false: the servo stays silent
   std::uint8_t error = 0;  ///< the status ERR byte in the servo's protocol (2.0: number | alert)
   std::vector<std::uint8_t> params;
   /// Time from the end of the instruction on the wire to the start of the reply, before Return

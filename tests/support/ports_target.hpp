@@ -15,6 +15,7 @@
 #include "bus/loopback_link.hpp"
 #include "control/target.hpp"
 #include "faults/injector.hpp"
+#include "faults/port_faults.hpp"
 #include "shipped_model.hpp"
 #include "sim/scheduler.hpp"
 
@@ -25,15 +26,16 @@ namespace dxlemu::test {
 /// outside the API (trace subscriptions, warnings, shutdown) is recorded for the tests to check.
 class PortsTarget : public control::Target {
  public:
-  /// One port: its bus, a link that records what the bus sends, and the bus as the control API
-  /// sees it (the daemon's own view).
+  /// One port: its bus, a link that records what the bus sends, the fault rules as the bus meets
+  /// them, and the bus as the control API sees it (the daemon's own view).
   struct Port {
     std::string name;
     bus::LoopbackLink link;
     bus::Bus bus;
+    faults::PortFaults faults;
     app::BusPortView view{bus};
     Port(std::string port_name, sim::Scheduler& scheduler)
-        : name(std::move(port_name)), bus(scheduler, link) {}
+        : name(std::move(port_name)), bus(scheduler, link), faults(scheduler, bus.servos()) {}
   };
 
   sim::Scheduler scheduler;
@@ -48,7 +50,8 @@ class PortsTarget : public control::Target {
   /// Adds a port named `name` under the target's fault rules.
   Port& add_port(const std::string& name) {
     Port& port = ports.emplace_back(name, scheduler);
-    port.bus.set_faults(&injector, name);
+    port.faults.set_rules(&injector, name);
+    port.bus.set_faults(&port.faults);
     return port;
   }
   /// Adds a servo of the shipped model `model` with `id` to `port`.

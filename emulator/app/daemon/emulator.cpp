@@ -17,6 +17,7 @@
 #include "bus/usb_adapter_link.hpp"
 #include "control/reply.hpp"
 #include "control/scenario.hpp"
+#include "faults/port_faults.hpp"
 #include "io/atomic_file.hpp"
 #include "io/pty_handover.hpp"
 #include "io/pty_link.hpp"
@@ -53,7 +54,8 @@ struct Emulator::Port {
   std::unique_ptr<bus::UsbAdapterLink> adapter;  // between the bus and the PTY; null: none
   std::string adapter_chip;
   std::unique_ptr<bus::Bus> bus;
-  std::unique_ptr<BusPortView> view;  // the bus as the control API sees it
+  std::unique_ptr<faults::PortFaults> faults;  // the fault rules as the bus meets them
+  std::unique_ptr<BusPortView> view;           // the bus as the control API sees it
 };
 
 Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const RunOptions& options)
@@ -182,7 +184,9 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
                                  pcap_->sent(index, bytes, at, p);
                                }
                              }});
-    port->bus->set_faults(&injector_, port_config.name);
+    port->faults = std::make_unique<faults::PortFaults>(scheduler_, port->bus->servos());
+    port->faults->set_rules(&injector_, port_config.name);
+    port->bus->set_faults(port->faults.get());
     ports_.push_back(std::move(port));
   }
   restore(state);

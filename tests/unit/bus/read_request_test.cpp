@@ -11,11 +11,11 @@ TEST_CASE("A Bulk Read's request keeps each ID's first part, in list order", "[b
   const bus::ReadRequest request = bus::read_request(packet);
   CHECK_FALSE(request.fast);
   CHECK_FALSE(request.v1_bulk);
-  REQUIRE(request.slots.size() == 2);
-  CHECK(request.slots[0].id == 3);
-  CHECK(request.slots[0].address == 132);
-  CHECK(request.slots[1].id == 1);
-  CHECK(request.slots[1].length == 2);
+  REQUIRE(request.parts.size() == 2);
+  CHECK(request.parts[0].id == 3);
+  CHECK(request.parts[0].address == 132);
+  CHECK(request.parts[1].id == 1);
+  CHECK(request.parts[1].length == 2);
 }
 
 TEST_CASE("Fast and Protocol 1.0 group reads are told apart", "[bus][group]") {
@@ -25,12 +25,12 @@ TEST_CASE("Fast and Protocol 1.0 group reads are told apart", "[bus][group]") {
   fast.ids = {1, 2, 1};
   const bus::ReadRequest f = bus::read_request({wire::Protocol::V2, wire::kBroadcastId, fast});
   CHECK(f.fast);
-  CHECK(f.slots.size() == 2);
+  CHECK(f.parts.size() == 2);
   const bus::ReadRequest v1 =
       bus::read_request({wire::Protocol::V1, wire::kBroadcastId, wire::BulkRead{{{1, 36, 2}}}});
   CHECK(v1.v1_bulk);
   CHECK_FALSE(v1.fast);
-  CHECK(bus::read_request({wire::Protocol::V2, 1, wire::Ping{}}).slots.empty());
+  CHECK(bus::read_request({wire::Protocol::V2, 1, wire::Ping{}}).parts.empty());
 }
 
 TEST_CASE("Group instructions are the Sync and Bulk ones and their Fast forms", "[bus][group]") {

@@ -5,6 +5,7 @@
 
 #include "bus/bus_rig.hpp"
 #include "faults/injector.hpp"
+#include "faults/port_faults.hpp"
 #include "faults/rule_parser.hpp"
 
 using namespace dxlemu;
@@ -21,12 +22,14 @@ namespace {
 struct FaultRig {
   faults::Injector injector{1};
   BusRig rig;
+  faults::PortFaults faults{rig.scheduler, rig.bus.servos()};
 
   FaultRig() {
     for (std::uint8_t id = 1; id <= 3; ++id) {
       rig.add("xm430-w350", id);
     }
-    rig.bus.set_faults(&injector, "dxl0");
+    faults.set_rules(&injector, "dxl0");
+    rig.bus.set_faults(&faults);
   }
   /// Adds the rule written as JSON (the bus follows it at once).
   std::uint64_t add(const std::string& rule) {
@@ -310,7 +313,9 @@ TEST_CASE("Random faults replay exactly with the same seed", "[faults][bus]") {
     faults::Injector injector(seed);
     BusRig rig;
     rig.add("xm430-w350", 1);
-    rig.bus.set_faults(&injector, "dxl0");
+    faults::PortFaults port_faults{rig.scheduler, rig.bus.servos()};
+    port_faults.set_rules(&injector, "dxl0");
+    rig.bus.set_faults(&port_faults);
     injector.add(
         faults::parse_rule(nlohmann::json::parse(R"({"action":"flip_bits","probability":0.3})")),
         {});
@@ -336,7 +341,9 @@ TEST_CASE(
   faults::Injector injector(1);
   BusRig rig;
   rig.add("ax-12a", 1);
-  rig.bus.set_faults(&injector, "dxl0");
+  faults::PortFaults port_faults{rig.scheduler, rig.bus.servos()};
+  port_faults.set_rules(&injector, "dxl0");
+  rig.bus.set_faults(&port_faults);
   constexpr std::uint32_t kAxBaud = 1'000'000;
   const wire::InstructionPacket ping{Protocol::V1, 1, wire::Ping{}};
   const auto id = injector.add(

@@ -11,26 +11,32 @@ using namespace std::chrono_literals;
 
 namespace {
 
+/// XM430-W350 servos with `ids`, numbered 0, 1, ... as on a bus.
+faults::PortFaults::Servos xm430s(std::initializer_list<std::uint8_t> ids) {
+  faults::PortFaults::Servos servos;
+  for (const std::uint8_t id : ids) {
+    servos.push_back(std::make_unique<model::Servo>(test::shipped_model("xm430-w350"), id));
+  }
+  return servos;
+}
+
 /// Two XM430-W350 (IDs 1 and 2) on port "dxl0" under an injector of seed 1.
 struct Port {
   sim::Scheduler scheduler;
   faults::Injector injector{1};
-  model::Servo one{test::shipped_model("xm430-w350"), 1};
-  model::Servo two{test::shipped_model("xm430-w350"), 2};
-  faults::PortFaults faults{scheduler};
+  faults::PortFaults::Servos servos = xm430s({1, 2});
+  model::Servo& one = *servos[0];
+  model::Servo& two = *servos[1];
+  faults::PortFaults faults{scheduler, servos};
 
-  Port() {
-    faults.add_servo(one);
-    faults.add_servo(two);
-    faults.set_rules(&injector, "dxl0");
-  }
+  Port() { faults.set_rules(&injector, "dxl0"); }
   void add(const std::string& rule) {
     injector.add(faults::parse_rule(nlohmann::json::parse(rule)), scheduler.now());
   }
 };
 
-faults::HeardPacket packet_to(std::uint8_t id, wire::InstructionCode code,
-                              const wire::InstructionPacket* decoded, sim::SimTime end) {
+bus::HeardPacket packet_to(std::uint8_t id, wire::InstructionCode code,
+                           const wire::InstructionPacket* decoded, sim::SimTime end) {
   return {wire::Protocol::V2, id, wire::to_byte(code), decoded, end};
 }
 
@@ -38,15 +44,14 @@ faults::HeardPacket packet_to(std::uint8_t id, wire::InstructionCode code,
 
 TEST_CASE("Without rules every hook answers that nothing happens", "[faults]") {
   sim::Scheduler scheduler;
-  model::Servo servo{test::shipped_model("xm430-w350"), 1};
-  faults::PortFaults faults{scheduler};
-  faults.add_servo(servo);
+  const faults::PortFaults::Servos servos = xm430s({1});
+  faults::PortFaults faults{scheduler, servos};
   CHECK_FALSE(faults.active());
   const auto heard = packet_to(1, wire::InstructionCode::Ping, nullptr, {});
-  const faults::Hearing hearing = faults.hear(heard, 0);
+  const bus::Hearing hearing = faults.hear(heard, 0);
   CHECK(hearing.hears);
   CHECK(hearing.answers);
-  CHECK(hearing.slow == 0ns);
+  CHECK(hearing.extra_delay == 0ns);
   CHECK_FALSE(faults.instruction(heard, {1}).any());
   CHECK(faults.injected() == 0);
 }
@@ -62,7 +67,7 @@ TEST_CASE("A servo silent until reboot hears only a Reboot to its ID, and does n
   CHECK_FALSE(port.faults.hear(packet_to(1, wire::InstructionCode::Ping, &ping, {}), 0).hears);
   // A damaged Reboot is not one.
   CHECK_FALSE(port.faults.hear(packet_to(1, wire::InstructionCode::Reboot, nullptr, {}), 0).hears);
-  const faults::Hearing on_reboot =
+  const bus::Hearing on_reboot =
       port.faults.hear(packet_to(1, wire::InstructionCode::Reboot, &reboot, {}), 0);
   CHECK(on_reboot.hears);
   CHECK_FALSE(on_reboot.answers);

@@ -31,7 +31,7 @@ TEST_CASE("A 1.0 Read of more than a 1.0 status can carry is refused with Range 
   for (const std::uint16_t length : {254, 255}) {
     const auto r =
         servo.execute({Protocol::V1, 7, wire::Read{36, length}}, model::Addressing::Unicast);
-    CHECK(r.reply);
+    CHECK(r.replies);
     CHECK(r.error == wire::v1_error::kRange);
     CHECK(r.params.empty());
     CHECK_NOTHROW(wire::encode_status({Protocol::V1, 7, r.error, r.params}));

@@ -60,14 +60,14 @@ void check_status_return_levels(const std::string& name, std::uint16_t goal, std
     CAPTURE(name, level);
     Servo servo(shipped(name), 1);
     servo.table().set("status_return_level", level);
-    CHECK(run(servo, wire::Ping{}).reply);
-    CHECK(run(servo, wire::Read{0, 2}).reply == (level >= 1));
+    CHECK(run(servo, wire::Ping{}).replies);
+    CHECK(run(servo, wire::Read{0, 2}).replies == (level >= 1));
     const std::int64_t target = 300 + level;
-    CHECK(run(servo, wire::Write{goal, le(target, size)}).reply == (level == 2));
+    CHECK(run(servo, wire::Write{goal, le(target, size)}).replies == (level == 2));
     CHECK(servo.table().get("goal_position") == target);  // applied even when not answered
-    CHECK(run(servo, wire::RegWrite{goal, le(400, size)}).reply == (level == 2));
+    CHECK(run(servo, wire::RegWrite{goal, le(400, size)}).replies == (level == 2));
     // Broadcast Write: applied, never answered.
-    CHECK_FALSE(run(servo, wire::Write{goal, le(500, size)}, true).reply);
+    CHECK_FALSE(run(servo, wire::Write{goal, le(500, size)}, true).replies);
     CHECK(servo.table().get("goal_position") == 500);
   }
 }
@@ -79,7 +79,7 @@ void check_status_return_levels(const std::string& name, std::uint16_t goal, std
 TEST_CASE("Ping answers model number LSB MSB and firmware version in 2.0", "[model][servo]") {
   Servo servo(shipped("xm430-w350"), 1);
   const ServoResponse r = run(servo, wire::Ping{});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.params == Bytes{0xFC, 0x03, 45});  // 1020 = 0x03FC, firmware 45
   CHECK(r.params == Bytes{static_cast<std::uint8_t>(servo.spec().model_number & 0xFF),
@@ -93,7 +93,7 @@ TEST_CASE("Ping answers model number LSB MSB and firmware version in 2.0", "[mod
 TEST_CASE("Ping in 1.0 is answered with no parameters", "[model][servo]") {
   Servo servo(shipped("ax-12a"), 1);
   const ServoResponse r = run(servo, wire::Ping{});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.params.empty());
   CHECK(r.processing == microseconds(18));  // ax-12a ping_us
@@ -104,14 +104,14 @@ TEST_CASE("Ping is answered at Status Return Level 0 and when broadcast", "[mode
     CAPTURE(name);
     Servo servo(shipped(name), 3);
     servo.table().set("status_return_level", 0);
-    CHECK(run(servo, wire::Ping{}).reply);
+    CHECK(run(servo, wire::Ping{}).replies);
     const ServoResponse broadcast = run(servo, wire::Ping{}, true);
-    CHECK(broadcast.reply);
+    CHECK(broadcast.replies);
     CHECK(broadcast.error == 0x00);
   }
   Servo servo(shipped("xl-320"), 1);
   const ServoResponse r = run(servo, wire::Ping{}, true);
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.params == Bytes{0x5E, 0x01, 1});  // XL-320: 350 = 0x015E, firmware 1
 }
 
@@ -120,7 +120,7 @@ TEST_CASE("Ping is answered at Status Return Level 0 and when broadcast", "[mode
 TEST_CASE("Read returns the bytes asked for with error 0", "[model][servo]") {
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse r = run(x, wire::Read{0, 2});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.params == Bytes{0xFC, 0x03});
   CHECK(r.processing == microseconds(x.spec().timing.read_us));
@@ -138,13 +138,13 @@ TEST_CASE("Read past the end is an Access Error in 2.0 and a Range Error in 1.0,
           "[model][servo]") {
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse v2 = run(x, wire::Read{660, 4});  // the table ends at 661
-  CHECK(v2.reply);
+  CHECK(v2.replies);
   CHECK(v2.error == 0x07);
   CHECK(v2.params.empty());
 
   Servo ax(shipped("ax-12a"), 1);
   const ServoResponse v1 = run(ax, wire::Read{48, 4});  // Punch (48, 49) is the last item
-  CHECK(v1.reply);
+  CHECK(v1.replies);
   CHECK(v1.error == 0x08);
   CHECK(v1.params.empty());
 }
@@ -154,10 +154,10 @@ TEST_CASE("Broadcast Read is not executed and not answered", "[model][servo]") {
   int reads = 0;
   servo.table().on_read("model_number", [&](std::size_t) { ++reads; });
   const ServoResponse broadcast = run(servo, wire::Read{0, 2}, true);
-  CHECK_FALSE(broadcast.reply);
+  CHECK_FALSE(broadcast.replies);
   CHECK(broadcast.params.empty());
   CHECK(reads == 0);
-  REQUIRE(run(servo, wire::Read{0, 2}).reply);  // the hook does see a unicast Read
+  REQUIRE(run(servo, wire::Read{0, 2}).replies);  // the hook does see a unicast Read
   CHECK(reads == 1);
 }
 
@@ -166,7 +166,7 @@ TEST_CASE("Broadcast Read is not executed and not answered", "[model][servo]") {
 TEST_CASE("Write is applied and answered with error 0", "[model][servo]") {
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse r = run(x, wire::Write{116, le(512, 4)});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.params.empty());
   CHECK(x.table().get("goal_position") == 512);
@@ -188,7 +188,7 @@ TEST_CASE("Refused 2.0 Writes answer Access, Data Length, Data Range and Data Li
   CHECK(run(servo, wire::Write{7, {253}}).error == 0x04);           // ID 0 ~ 252
   REQUIRE(run(servo, wire::Write{48, le(3000, 4)}).error == 0x00);  // Max Position Limit
   const ServoResponse limit = run(servo, wire::Write{116, le(3001, 4)});
-  CHECK(limit.reply);
+  CHECK(limit.replies);
   CHECK(limit.error == 0x06);
   CHECK(servo.table().get("goal_position") == 2048);
   REQUIRE(run(servo, wire::Write{64, {1}}).error == 0x00);  // torque on locks EEPROM
@@ -200,7 +200,7 @@ TEST_CASE("Refused 1.0 Writes answer the Range Error bit or the Angle Limit Erro
           "[model][servo]") {
   Servo servo(shipped("ax-12a"), 1);
   const ServoResponse range = run(servo, wire::Write{30, le(1024, 2)});
-  CHECK(range.reply);
+  CHECK(range.replies);
   CHECK(range.error == 0x08);
   REQUIRE(run(servo, wire::Write{6, le(200, 2)}).error == 0x00);  // CW Angle Limit
   REQUIRE(run(servo, wire::Write{8, le(800, 2)}).error == 0x00);  // CCW Angle Limit
@@ -232,14 +232,14 @@ TEST_CASE("The Status Return Level in force on arrival decides the reply, not th
     const ServoResponse r = run(servo, wire::FactoryReset{});
     CHECK(r.reboot_after);
     CHECK(servo.table().get("status_return_level") == 2);  // executed
-    CHECK_FALSE(r.reply);
+    CHECK_FALSE(r.replies);
   }
   Servo servo(shipped("xm430-w350"), 1);
   const ServoResponse lower = run(servo, wire::Write{68, {0}});
-  CHECK(lower.reply);
+  CHECK(lower.replies);
   CHECK(servo.table().get("status_return_level") == 0);
   const ServoResponse raise = run(servo, wire::Write{68, {2}});
-  CHECK_FALSE(raise.reply);
+  CHECK_FALSE(raise.replies);
   CHECK(servo.table().get("status_return_level") == 2);
 }
 
@@ -260,19 +260,19 @@ TEST_CASE("Reg Write is held until Action, which applies it and clears Registere
     Servo servo(shipped(c.model), 1);
     const std::int64_t initial = servo.table().get("goal_position");
     const ServoResponse reg = run(servo, wire::RegWrite{c.goal, le(1000, c.size)});
-    CHECK(reg.reply);
+    CHECK(reg.replies);
     CHECK(reg.error == 0x00);
     CHECK(servo.table().get(c.flag) == 1);
     CHECK(servo.table().get("goal_position") == initial);
 
     const ServoResponse action = run(servo, wire::Action{});
-    CHECK(action.reply);
+    CHECK(action.replies);
     CHECK(action.error == 0x00);
     CHECK(servo.table().get("goal_position") == 1000);
     CHECK(servo.table().get(c.flag) == 0);
 
     const ServoResponse again = run(servo, wire::Action{});
-    CHECK(again.reply);
+    CHECK(again.replies);
     CHECK(again.error == c.instruction_error);
   }
 }
@@ -295,7 +295,7 @@ TEST_CASE("Broadcast Action applies the registered write without a reply", "[mod
   Servo servo(shipped("xm430-w350"), 1);
   REQUIRE(run(servo, wire::RegWrite{116, le(700, 4)}).error == 0x00);
   const ServoResponse action = run(servo, wire::Action{}, true);
-  CHECK_FALSE(action.reply);
+  CHECK_FALSE(action.replies);
   CHECK(servo.table().get("goal_position") == 700);
   CHECK(servo.table().get("registered_instruction") == 0);
 }
@@ -309,7 +309,7 @@ TEST_CASE("Factory Reset 2.0 resets EEPROM according to its option and asks for 
   REQUIRE(run(servo, wire::Write{8, {3}}).error == 0x00);  // Baud Rate
   auto reset = [&](std::uint8_t option) {
     const ServoResponse r = run(servo, wire::FactoryReset{option});
-    CHECK(r.reply);
+    CHECK(r.replies);
     CHECK(r.error == 0x00);
     CHECK(r.reboot_after);
     CHECK(servo.table().get("return_delay_time") == 250);
@@ -338,13 +338,13 @@ TEST_CASE("Broadcast Factory Reset 0xFF is not executed while 0x01 is, without a
   Servo servo(shipped("xm430-w350"), 5);
   REQUIRE(run(servo, wire::Write{9, {0}}).error == 0x00);
   const ServoResponse all = run(servo, wire::FactoryReset{0xFF}, true);
-  CHECK_FALSE(all.reply);
+  CHECK_FALSE(all.replies);
   CHECK_FALSE(all.reboot_after);
   CHECK(servo.table().get("return_delay_time") == 0);
   CHECK(servo.table().get("id") == 5);
 
   const ServoResponse but_id = run(servo, wire::FactoryReset{0x01}, true);
-  CHECK_FALSE(but_id.reply);
+  CHECK_FALSE(but_id.replies);
   CHECK(but_id.reboot_after);
   CHECK(servo.table().get("return_delay_time") == 250);
   CHECK(servo.table().get("id") == 5);
@@ -355,13 +355,13 @@ TEST_CASE("Factory Reset 1.0 resets a unicast servo and ignores a broadcast one"
   Servo servo(shipped("ax-12a"), 5);
   REQUIRE(run(servo, wire::Write{5, {0}}).error == 0x00);  // Return Delay Time
   const ServoResponse broadcast = run(servo, wire::FactoryReset{}, true);
-  CHECK_FALSE(broadcast.reply);
+  CHECK_FALSE(broadcast.replies);
   CHECK_FALSE(broadcast.reboot_after);
   CHECK(servo.table().get("id") == 5);
   CHECK(servo.table().get("return_delay_time") == 0);
 
   const ServoResponse r = run(servo, wire::FactoryReset{});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.reboot_after);
   CHECK(servo.table().get("id") == 1);
@@ -379,7 +379,7 @@ TEST_CASE("Reboot is answered, then reboot puts RAM back and keeps EEPROM", "[mo
   REQUIRE(run(servo, wire::RegWrite{116, le(3000, 4)}).error == 0x00);
 
   const ServoResponse r = run(servo, wire::Reboot{});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(r.reboot_after);
   CHECK(servo.table().get("led") == 1);  // nothing changes before the reboot itself
@@ -397,13 +397,13 @@ TEST_CASE("Reboot is answered, then reboot puts RAM back and keeps EEPROM", "[mo
 TEST_CASE("AX answers Reboot with Instruction Error while MX-28 accepts it", "[model][servo]") {
   Servo ax(shipped("ax-12a"), 1);
   const ServoResponse refused = run(ax, wire::Reboot{});
-  CHECK(refused.reply);
+  CHECK(refused.replies);
   CHECK(refused.error == 0x40);
   CHECK_FALSE(refused.reboot_after);
 
   Servo mx(shipped("mx-28"), 1);
   const ServoResponse accepted = run(mx, wire::Reboot{});
-  CHECK(accepted.reply);
+  CHECK(accepted.replies);
   CHECK(accepted.error == 0x00);
   CHECK(accepted.reboot_after);
 }
@@ -413,7 +413,7 @@ TEST_CASE("AX answers Reboot with Instruction Error while MX-28 accepts it", "[m
 TEST_CASE("A new ID takes effect only at commit_deferred", "[model][servo]") {
   Servo servo(shipped("xm430-w350"), 1);
   const ServoResponse r = run(servo, wire::Write{7, {7}});
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(servo.table().get("id") == 7);
   CHECK(servo.id() == 1);
@@ -498,7 +498,7 @@ TEST_CASE("Clear wraps Present Position into one turn when stopped", "[model][se
   Servo servo(shipped("xm430-w350"), 1);
   servo.table().set("present_position", 10000);
   const ServoResponse r = run(servo, clear(0x01));
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x00);
   CHECK(servo.table().get("present_position") == 10000 % 4096);
   servo.table().set("present_position", -1);
@@ -511,7 +511,7 @@ TEST_CASE("Clear while moving answers Result Fail and changes nothing", "[model]
   servo.table().set("present_position", 10000);
   servo.table().set("moving", 1);
   const ServoResponse r = run(servo, clear(0x01));
-  CHECK(r.reply);
+  CHECK(r.replies);
   CHECK(r.error == 0x01);
   CHECK(servo.table().get("present_position") == 10000);
 }
@@ -530,7 +530,7 @@ TEST_CASE("Control Table Backup needs torque off and a stored backup to restore"
   Servo servo(shipped("xm430-w350"), 1);
   servo.table().set("torque_enable", 1);
   const ServoResponse torque_on = run(servo, backup(0x01));
-  CHECK(torque_on.reply);
+  CHECK(torque_on.replies);
   CHECK(torque_on.error == 0x01);
   CHECK_FALSE(servo.has_backup());
   CHECK(servo.table().get("backup_ready") == 0);
@@ -541,7 +541,7 @@ TEST_CASE("Control Table Backup needs torque off and a stored backup to restore"
   CHECK_FALSE(nothing_stored.reboot_after);
 
   const ServoResponse store = run(servo, backup(0x01));
-  CHECK(store.reply);
+  CHECK(store.replies);
   CHECK(store.error == 0x00);
   CHECK_FALSE(store.reboot_after);
   CHECK(servo.has_backup());
@@ -554,7 +554,7 @@ TEST_CASE("Control Table Backup restore brings EEPROM back and asks for a reboot
   REQUIRE(run(servo, backup(0x01)).error == 0x00);
   REQUIRE(run(servo, wire::Write{9, {0}}).error == 0x00);  // Return Delay Time
   const ServoResponse restore = run(servo, backup(0x02));
-  CHECK(restore.reply);
+  CHECK(restore.replies);
   CHECK(restore.error == 0x00);
   CHECK(restore.reboot_after);
   CHECK(servo.table().get("return_delay_time") == 250);
@@ -595,7 +595,7 @@ TEST_CASE("Models without Backup Ready answer Control Table Backup with Instruct
     CAPTURE(name);
     Servo servo(shipped(name), 1);
     const ServoResponse r = run(servo, backup(0x01));
-    CHECK(r.reply);
+    CHECK(r.replies);
     CHECK(r.error == 0x02);
     CHECK_FALSE(servo.has_backup());
   }
@@ -607,15 +607,15 @@ TEST_CASE("An unknown instruction answers Instruction Error, silently when broad
           "[model][servo]") {
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse v2 = run(x, wire::UnknownInstruction{0x07, {}});
-  CHECK(v2.reply);
+  CHECK(v2.replies);
   CHECK(v2.error == 0x02);
-  CHECK_FALSE(run(x, wire::UnknownInstruction{0x07, {}}, true).reply);
+  CHECK_FALSE(run(x, wire::UnknownInstruction{0x07, {}}, true).replies);
 
   Servo ax(shipped("ax-12a"), 1);
   const ServoResponse v1 = run(ax, wire::UnknownInstruction{0x07, {}});
-  CHECK(v1.reply);
+  CHECK(v1.replies);
   CHECK(v1.error == 0x40);
-  CHECK_FALSE(run(ax, wire::UnknownInstruction{0x07, {}}, true).reply);
+  CHECK_FALSE(run(ax, wire::UnknownInstruction{0x07, {}}, true).replies);
 }
 
 TEST_CASE("Undecodable parameters are refused with the error of the servo protocol",
@@ -626,21 +626,21 @@ TEST_CASE("Undecodable parameters are refused with the error of the servo protoc
 
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse length = x.refuse(bad_length, false);
-  CHECK(length.reply);
+  CHECK(length.replies);
   CHECK(length.error == 0x05);
   CHECK(length.params.empty());
   CHECK(x.refuse(bad_value, false).error == 0x04);
-  CHECK_FALSE(x.refuse(bad_length, true).reply);
+  CHECK_FALSE(x.refuse(bad_length, true).replies);
   x.table().set("status_return_level", 1);
-  CHECK_FALSE(x.refuse(bad_length, false).reply);  // a Write is not answered at level 1
-  CHECK(x.refuse(decode_error(DecodeErrorKind::BadLength, 0x02), false).reply);  // a Read is
+  CHECK_FALSE(x.refuse(bad_length, false).replies);  // a Write is not answered at level 1
+  CHECK(x.refuse(decode_error(DecodeErrorKind::BadLength, 0x02), false).replies);  // a Read is
 
   Servo ax(shipped("ax-12a"), 1);
   const ServoResponse v1 = ax.refuse(bad_length, false);
-  CHECK(v1.reply);
+  CHECK(v1.replies);
   CHECK(v1.error == 0x40);
   CHECK(ax.refuse(bad_value, false).error == 0x08);
-  CHECK_FALSE(ax.refuse(bad_value, true).reply);
+  CHECK_FALSE(ax.refuse(bad_value, true).replies);
 }
 
 // ---- Sync/Bulk parts ----
@@ -648,7 +648,7 @@ TEST_CASE("Undecodable parameters are refused with the error of the servo protoc
 TEST_CASE("read_part returns the data or an error with no data", "[model][servo]") {
   Servo x(shipped("xm430-w350"), 1);
   const ServoResponse data = x.read_part(0, 2);
-  CHECK(data.reply);
+  CHECK(data.replies);
   CHECK(data.error == 0x00);
   CHECK(data.params == Bytes{0xFC, 0x03});
   const ServoResponse past_end = x.read_part(660, 4);

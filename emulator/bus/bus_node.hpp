@@ -9,9 +9,9 @@
 namespace dxlemu::bus {
 
 /// A servo and its bus-side state: whether it is on the line and awake, and its Bus Watchdog.
-struct Bus::Station {
+struct Bus::Node {
   model::Servo* servo = nullptr;
-  std::size_t index = 0;         // its number for the fault hooks
+  std::size_t index = 0;         // its place in servos(), which the fault hooks name it by
   sim::SimTime booting_until{};  // silent before this (Reboot, Factory Reset, Backup restore)
   bool attached = true;          // plugged in: powered and on the line
   std::optional<sim::Scheduler::EventId> watchdog;  // the Bus Watchdog's expiry, while armed
