@@ -38,13 +38,18 @@ class PortFaults : public bus::FaultHooks {
     return injector_ != nullptr && (!injector_->rules().empty() || stateful_);
   }
 
+  /// False while servo `servo` is busy writing EEPROM at `at` (eeprom_busy).
   bool available(std::size_t servo, sim::SimTime at) const override;
+  /// The instruction rules' effects (corrupt_instruction, echo_instruction, noise).
   bus::InstructionEffects instruction(const bus::HeardPacket& packet,
                                       std::vector<std::uint8_t> ids) override;
+  /// The servo rules' answer (silence, silence_until_reboot, slow), and a silence until reboot
+  /// that an earlier one left.
   bus::Hearing hear(const bus::HeardPacket& packet, std::size_t servo) override;
   /// EEPROM bytes the servo stored may keep it deaf for a while (eeprom_busy).
   void wrote(const bus::HeardPacket& packet, std::size_t servo, std::uint16_t address,
              std::span<const std::uint8_t> data) override;
+  /// The reply rules' effects (drop_reply, delay_reply, and the ones that damage the bytes).
   bus::ReplyEffects reply(const bus::HeardPacket& packet, std::vector<std::uint8_t> ids,
                           std::vector<std::uint8_t>& bytes, wire::Protocol protocol,
                           sim::SimTime at) override;
@@ -57,6 +62,7 @@ class PortFaults : public bus::FaultHooks {
   /// hardware_error rules follow a servo's ID, which an instruction may have changed.
   void follow(sim::SimTime now) override;
 
+  /// How often a rule acted on a packet or a servo's handling of it.
   std::uint64_t injected() const override { return injected_; }
 
  private:
