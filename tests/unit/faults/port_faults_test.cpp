@@ -76,6 +76,20 @@ TEST_CASE("A servo silent until reboot hears only a Reboot to its ID, and does n
   CHECK(port.faults.injected() == 1);
 }
 
+TEST_CASE("The hooks are active while a rule is set or a servo keeps the state a rule left",
+          "[faults]") {
+  Port port;
+  CHECK_FALSE(port.faults.active());  // an injector without rules changes nothing
+  port.add(R"({"action":"silence_until_reboot","match":{"servos":[1]}})");
+  CHECK(port.faults.active());
+  const wire::InstructionPacket ping{wire::Protocol::V2, 1, wire::Ping{}};
+  CHECK_FALSE(port.faults.hear(packet_to(1, wire::InstructionCode::Ping, &ping, {}), 0).hears);
+  port.injector.clear();
+  CHECK(port.faults.active());  // the silence outlives the rule
+  port.faults.rebooted(0);
+  CHECK_FALSE(port.faults.active());
+}
+
 TEST_CASE("eeprom_busy keeps a servo deaf for the EEPROM bytes it stored, until powered on",
           "[faults]") {
   Port port;
