@@ -7,8 +7,8 @@
 #include <sstream>
 #include <system_error>
 
-#include "model/spec/model_error.hpp"
 #include "model/spec/firmware_variant.hpp"
+#include "model/spec/model_error.hpp"
 #include "model/spec/model_loader.hpp"
 
 namespace dxlemu::app {
