@@ -93,6 +93,8 @@ constexpr Row reading_setting(std::string_view key, std::string_view other_maker
 }
 
 // Rows of one item run in the order listed: checks in turn until one refuses, effects in turn.
+// A row is installed when what it needs exists (HookNeeds), so among an item's rows those that
+// need only the table come first, then the servo's, then the other axis's.
 // Besides these, ControlTable itself keeps EEPROM locked while Torque Enable is 1 (families with
 // FamilyTraits::eeprom_locked_by_torque) or while 1.0 Lock is 1, and keeps Lock at 1 once set.
 constexpr std::array kRows = {
