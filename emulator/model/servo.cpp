@@ -5,6 +5,8 @@
 #include <chrono>
 #include <type_traits>
 
+#include "model/item_hooks.hpp"
+
 namespace dxlemu::model {
 namespace {
 
@@ -79,12 +81,8 @@ Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDur
   items_.torque_enable = item({"torque_enable", "torque_switch"});
   items_.registered = item({"registered_instruction", "registered", "async_write_flag"});
   table_.set(items_.id, id);
-  if (const auto lock = item({"lock_flag"});
-      lock && table_.spec().traits().lock_flag_keeps_eeprom) {
-    // FEETECH: "write 0 ... values written to EEPROM addresses persist after power-off; write 1
-    // ... do not persist". The ID given here counts as set at the factory.
-    table_.set_eeprom_keep([this, lock = *lock] { return table_.get(lock) == 0; });
-  }
+  // After the ID: with FEETECH's Lock flag, the ID given here counts as set at the factory.
+  install_item_hooks(HookScope{table_, &motion_}, HookNeeds::Servo);
   commit_deferred();
 }
 

@@ -2,14 +2,14 @@
 // apart from servo.cpp, which executes instructions.
 #include <algorithm>
 
+#include "model/item_hooks.hpp"
 #include "model/servo.hpp"
 
 namespace dxlemu::model {
 
 bool Servo::defers(std::size_t item_index) const {
-  // Exactly the items commit_deferred() reads.
-  return item_index == items_.id || item_index == items_.baud_rate ||
-         item_index == items_.return_delay_time || item_index == items_.protocol;
+  // The item hook table names the items commit_deferred() reads.
+  return applies_after_status(spec(), item_index);
 }
 
 void Servo::device_write(std::size_t item_index, std::int64_t value) {

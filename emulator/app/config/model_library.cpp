@@ -7,6 +7,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "model/spec/firmware_variant.hpp"
 #include "model/spec/model_error.hpp"
 #include "model/spec/model_loader.hpp"
 

@@ -40,63 +40,23 @@ MotionModel::MotionModel(ControlTable& table, sim::SimDuration tick)
     motion_.motor.set_position(static_cast<double>(spec.items[*items.present_position].initial) -
                                motion_.homing());
   }
-  install_hooks();
   after_reboot();
 }
 
 MotionModel::~MotionModel() = default;
 
-// --- hooks -------------------------------------------------------------------------------
+// --- what writes of its items do ------------------------------------------------------------
 
-void MotionModel::install_hooks() {
-  ControlTable& table = motion_.table;
-  const MotionItems& items = motion_.items;
-  // By the model's own key: another maker names the item otherwise (FEETECH Torque switch).
-  auto key_of = [&](std::size_t item) { return table.spec().items[item].key; };
-  if (items.goal_position) {
-    table.on_write("goal_position",
-                   [this](std::size_t, std::int64_t, std::int64_t v) { on_goal_position(v); });
-    // Extended and Current-based Position Control Mode take goals over 512 turns instead of
-    // within the position limits (includes/control_table_opmode_six_2.md).
-    const ExtendedGoals extended = motion_.traits.extended_goals;
-    if (items.operating_mode && extended != ExtendedGoals::ItemRange) {
-      const ItemSpec& goal = table.spec().items[*items.goal_position];
-      const std::int64_t width_max = representable_range(goal).max;
-      const std::int64_t turns =
-          extended == ExtendedGoals::ItemWidth
-              ? width_max
-              : round_to(kExtendedTurns * motion_.motor.params().pulses_per_rev) - 1;
-      table.set_range_rule("goal_position", [this, turns](std::size_t) {
-        const auto m = drive_->mode();
-        return m == Mode::Extended || m == Mode::CurrentPosition
-                   ? std::optional<ItemRange>(ItemRange{-turns, turns})
-                   : std::nullopt;
-      });
-    }
+std::optional<ItemRange> MotionModel::extended_goal_range() const {
+  const auto m = drive_->mode();
+  if (m != Mode::Extended && m != Mode::CurrentPosition) {
+    return std::nullopt;
   }
-  if (items.torque_enable) {
-    table.on_write(key_of(*items.torque_enable),
-                   [this](std::size_t, std::int64_t o, std::int64_t n) { on_torque_enable(o, n); });
-  }
-  if (items.operating_mode) {
-    table.on_write("operating_mode", [this](std::size_t, std::int64_t o, std::int64_t n) {
-      if (o != n) {
-        on_operating_mode();
-      }
-    });
-  }
-  // A reading computed from a setting follows it on the very next read, not at the next tick:
-  // a client that writes Homing Offset and reads Present Position at once (LeRobot's
-  // calibration) sees the new offset, as on a real servo.
-  for (const std::size_t setting : items.reading_settings()) {
-    table.on_write(table.spec().items[setting].key,
-                   [this](std::size_t, std::int64_t o, std::int64_t n) {
-                     if (o != n) {
-                       on_reading_setting();
-                     }
-                   });
-  }
-  protection_.install_hooks();
+  const std::int64_t turns =
+      motion_.traits.extended_goals == ExtendedGoals::ItemWidth
+          ? representable_range(motion_.table.spec().items[*motion_.items.goal_position]).max
+          : round_to(kExtendedTurns * motion_.motor.params().pulses_per_rev) - 1;
+  return ItemRange{-turns, turns};
 }
 
 void MotionModel::on_goal_position(std::int64_t goal) {

@@ -87,6 +87,25 @@ class MotionModel {
   /// false, changing nothing, when that offset lies outside the item's range.
   bool calibrate_position(std::int64_t present);
 
+  // What bus writes of its items do to the motion; the item hook table (model/item_hooks.cpp)
+  // says which item and which models.
+
+  /// Goal Position written: the move starts (and, where the family does so, torque comes on).
+  void on_goal_position(std::int64_t goal);
+  /// Torque Enable (FEETECH: Torque switch) written from `old_value` to `new_value`.
+  void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
+  /// Operating Mode changed: the profile and the limits reset.
+  void on_operating_mode();
+  /// A setting the Present values are computed from changed (MotionItems::reading_settings):
+  /// they show it on the very next read.
+  void on_reading_setting();
+  /// The range Goal Position takes in the present mode when it is not the item's own: over 512
+  /// turns in Extended and Current-based Position Control Mode
+  /// (includes/control_table_opmode_six_2.md), else nullopt.
+  std::optional<ItemRange> extended_goal_range() const;
+  /// Hardware error detection and the reaction to it.
+  Protection& protection() { return protection_; }
+
   /// The motor and shaft now.
   const MotorState& motor() const { return motion_.motor.state(); }
   const MotorParams& params() const { return motion_.motor.params(); }
@@ -102,11 +121,6 @@ class MotionModel {
   double begin_coupled_tick(sim::SimTime tick_end);
   void end_coupled_tick(double position, double velocity);
   void publish_realtime_tick(sim::SimTime now);
-  void install_hooks();
-  void on_goal_position(std::int64_t goal);
-  void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
-  void on_operating_mode();
-  void on_reading_setting();
   void run_tick();
   void cool_until(sim::SimTime now);
   DriveCommand command();

@@ -19,57 +19,43 @@ constexpr double kTenMs = 10;
 
 }  // namespace
 
-void Protection::install_hooks() {
-  ControlTable& table = motion_.table;
-  const MotionItems& items = motion_.items;
-  // "REBOOT is the only method to reset Torque Enable to '1' after the shutdown"
-  // (includes/control_table_shutdown.md): refused while Hardware Error Status holds an error.
-  if (items.torque_enable && items.hardware_error_status) {
-    table.add_validator("torque_enable", [this](std::size_t, std::int64_t v) {
-      if (v != 0 && motion_.get(motion_.items.hardware_error_status) != 0) {
-        return TableResult::fail(TableError::ResultFail,
-                                 "Torque Enable stays 0 after a hardware error shutdown until "
-                                 "the servo reboots");
-      }
-      return TableResult{};
-    });
+// "REBOOT is the only method to reset Torque Enable to '1' after the shutdown"
+// (includes/control_table_shutdown.md).
+TableResult Protection::refuse_torque_after_shutdown(std::int64_t value) const {
+  if (value != 0 && motion_.get(motion_.items.hardware_error_status) != 0) {
+    return TableResult::fail(TableError::ResultFail,
+                             "Torque Enable stays 0 after a hardware error shutdown until the "
+                             "servo reboots");
   }
-  // DYNAMIXEL-Y: "If Torque cannot be enabled, the Result Fail bit ... will be set": an error
-  // that turned torque off (every one Error Code reports here) keeps it off.
-  if (items.torque_enable && items.error_code) {
-    table.add_validator("torque_enable", [this](std::size_t, std::int64_t v) {
-      if (v != 0 && torque_off_error()) {
-        return TableResult::fail(TableError::ResultFail,
-                                 "Torque Enable stays 0 while Error Code holds an error, until "
-                                 "the servo reboots");
-      }
-      return TableResult{};
-    });
+  return {};
+}
+
+// DYNAMIXEL-Y: "If Torque cannot be enabled, the Result Fail bit ... will be set": an error that
+// turned torque off (every one Error Code reports here) keeps it off.
+TableResult Protection::refuse_torque_while_error_code(std::int64_t value) const {
+  if (value != 0 && torque_off_error()) {
+    return TableResult::fail(TableError::ResultFail,
+                             "Torque Enable stays 0 while Error Code holds an error, until the "
+                             "servo reboots");
   }
-  // "To resolve the Bus Watchdog Error, you must reset Bus Watchdog(8) to '0'"
-  // (_includes/en/dxl/y/control_table_8_bus_watchdog.md).
+  return {};
+}
+
+// "To resolve the Bus Watchdog Error, you must reset Bus Watchdog(8) to '0'"
+// (_includes/en/dxl/y/control_table_8_bus_watchdog.md).
+void Protection::bus_watchdog_written(std::int64_t value) {
   const std::uint8_t watchdog_code = motion_.traits.error_codes.bus_watchdog;
-  if (items.error_code && watchdog_code != 0 && table.spec().index_of("bus_watchdog")) {
-    table.on_write("bus_watchdog",
-                   [this, watchdog_code](std::size_t, std::int64_t, std::int64_t v) {
-                     if (v == 0 && motion_.get(motion_.items.error_code) == watchdog_code) {
-                       motion_.put(motion_.items.error_code, 0);
-                       publish_controller_state();
-                     }
-                   });
+  if (value == 0 && motion_.get(motion_.items.error_code) == watchdog_code) {
+    motion_.put(motion_.items.error_code, 0);
+    publish_controller_state();
   }
-  if (items.torque_enable && items.controller_state) {
-    table.on_write("torque_enable",
-                   [this](std::size_t, std::int64_t, std::int64_t) { publish_controller_state(); });
-  }
-  if (items.torque_limit && motion_.traits.error_reaction == ErrorReaction::AlarmShutdown) {
-    // Alarm Shutdown zeroes Torque Limit; writing it again makes the motor usable
-    // (ax-legacy-page-description-sections.md "Torque Limit").
-    table.on_write("torque_limit", [this](std::size_t, std::int64_t, std::int64_t) {
-      v1_errors_ &= static_cast<std::uint8_t>(~fault_bits(motion_.traits.family, latched_));
-      latched_ = 0;
-    });
-  }
+}
+
+// Alarm Shutdown zeroes Torque Limit; writing it again makes the motor usable
+// (ax-legacy-page-description-sections.md "Torque Limit").
+void Protection::torque_limit_written() {
+  v1_errors_ &= static_cast<std::uint8_t>(~fault_bits(motion_.traits.family, latched_));
+  latched_ = 0;
 }
 
 void Protection::check() {

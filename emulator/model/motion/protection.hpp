@@ -4,6 +4,7 @@
 
 #include "model/motion/hardware_fault.hpp"
 #include "model/motion/motion_context.hpp"
+#include "model/table/table_result.hpp"
 
 namespace dxlemu::model {
 
@@ -19,9 +20,21 @@ class Protection {
   /// Protection working on `motion`, which must outlive it.
   explicit Protection(MotionContext& motion) : motion_(motion) {}
 
-  /// Registers the table rules of the reaction: Torque Enable refused while Hardware Error
-  /// Status holds an error; a Torque Limit write ending a 1.0 Overload.
-  void install_hooks();
+  // What writes of its items do to the reaction; the item hook table (model/item_hooks.cpp)
+  // says which item and which models.
+
+  /// Torque Enable `value` is refused while Hardware Error Status holds an error: "REBOOT is the
+  /// only method to reset Torque Enable to '1' after the shutdown".
+  TableResult refuse_torque_after_shutdown(std::int64_t value) const;
+  /// DYNAMIXEL-Y: Torque Enable `value` is refused while Error Code holds an error that turned
+  /// torque off.
+  TableResult refuse_torque_while_error_code(std::int64_t value) const;
+  /// Bus Watchdog written `value`: 0 clears a Bus Watchdog error reported in Error Code.
+  void bus_watchdog_written(std::int64_t value);
+  /// Torque Limit written: a 1.0 Alarm Shutdown's latched errors (Overload) end.
+  void torque_limit_written();
+  /// Controller State (DYNAMIXEL-Y) shows torque and errors as they are now.
+  void publish_controller_state();
 
   /// Hardware errors forced from outside (fault injection): each is detected as if its
   /// condition were real, for as long as it is set.
@@ -57,7 +70,6 @@ class Protection {
   /// A latched error turns torque off: the motor stops driving and the profile ends.
   void turn_torque_off_for_error();
   void record_error_code(std::uint8_t code);
-  void publish_controller_state();
 
   MotionContext& motion_;
   FaultSet injected_ = 0;

@@ -21,18 +21,6 @@ namespace dxlemu::model {
 /// the item or given with "signed": true, an unknown protocol.
 ModelSpec parse_model(std::string_view json_text, const std::string& origin);
 
-/// `base` running firmware `version`: `base` itself for its own firmware_version, else the
-/// variant of firmware_variants with that version, named "NAME@VERSION": its Firmware Version
-/// reads `version`, its indirect blocks are the variant's and its Indirect Address/Data items are
-/// rebuilt for them from the first pair of `base` (docs/model-format.md). Returns nullopt for a
-/// version the model does not list; throws ModelError (naming `origin`) when the rebuilt items
-/// overlap the rest of the table.
-std::optional<ModelSpec> model_for_firmware(const ModelSpec& base, std::uint8_t version,
-                                            const std::string& origin = {});
-
-/// The firmware versions `spec` can run, its default first, as "53, 52".
-std::string firmware_list(const ModelSpec& spec);
-
 /// The top-level fields a model file may have (docs/model-format.md). The JSON Schema in
 /// models/schema/ declares the same; a test keeps the two in step.
 std::span<const std::string_view> model_fields();

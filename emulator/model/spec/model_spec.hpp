@@ -85,7 +85,7 @@ struct IndirectBlock {
 
 /// Another firmware of the same model whose control table differs (the XL330/XC330 pages: "Firmware
 /// versions prior to V53 support up to 20 Indirect Address/Data items"). It states only what
-/// differs; everything else is the model's. model_for_firmware() (model_loader.hpp) builds it.
+/// differs; everything else is the model's. model_for_firmware() (firmware_variant.hpp) builds it.
 struct FirmwareVariant {
   std::uint8_t firmware_version = 0;
   /// Replaces ModelSpec::indirect, and with it the Indirect Address/Data items.

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "model/table/family_rules.hpp"
+#include "model/item_hooks.hpp"
 #include "model/table/item_encoding.hpp"
 
 namespace dxlemu::model {
@@ -32,7 +32,6 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
       hybrid_saved_(spec_->items.size(), 0),
       item_at_(spec_->table_size(), kNoItem),
       indirect_address_(spec_->table_size(), kNoItem),
-      read_hooks_(spec_->items.size()),
       write_hooks_(spec_->items.size()),
       validators_(spec_->items.size()),
       range_rules_(spec_->items.size()),
@@ -40,6 +39,10 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
       lock_(spec_->index_of("lock")) {
   for (std::size_t i = 0; i < spec_->items.size(); ++i) {
     const ItemSpec& item = spec_->items[i];
+    if (item.size > kMaxItemBytes) {
+      throw std::invalid_argument(describe_item(item) + " is wider than " +
+                                  std::to_string(kMaxItemBytes) + " bytes");
+    }
     std::fill_n(item_at_.begin() + item.address, item.size, static_cast<int>(i));
   }
   for (const IndirectBlock& block : spec_->indirect) {
@@ -48,7 +51,7 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
     }
   }
   load_initial(true);
-  install_family_rules(*this);
+  install_item_hooks(HookScope{*this}, HookNeeds::Table);
 }
 
 void ControlTable::load_initial(bool eeprom) {
@@ -169,7 +172,7 @@ std::optional<std::uint16_t> ControlTable::resolve(std::uint16_t address) const 
 }
 
 TableResult ControlTable::bus_read(std::uint16_t address, std::uint16_t length,
-                                   std::vector<std::uint8_t>& out) {
+                                   std::vector<std::uint8_t>& out) const {
   out.clear();
   if (std::size_t{address} + length > image_.size()) {
     return TableResult::fail(TableError::Access, "read of " + std::to_string(length) +
@@ -177,67 +180,55 @@ TableResult ControlTable::bus_read(std::uint16_t address, std::uint16_t length,
                                                      " goes past the end of the table (" +
                                                      std::to_string(image_.size()) + " bytes)");
   }
-  std::vector<std::uint16_t> targets;
-  targets.reserve(length);
+  out.reserve(length);
   for (std::uint16_t a = address; a < address + length; ++a) {
     const auto target = resolve(a);
     if (!target) {
+      out.clear();  // a refused read yields no data
       return TableResult::fail(TableError::Access, "indirect address of " + std::to_string(a) +
                                                        " points outside the table");
     }
-    targets.push_back(*target);
-  }
-  // Refresh each touched item once before its bytes are copied.
-  std::vector<bool> refreshed(spec_->items.size(), false);
-  for (const std::uint16_t t : targets) {
-    const int item = item_at_[t];
-    if (item != kNoItem && !refreshed[static_cast<std::size_t>(item)]) {
-      refreshed[static_cast<std::size_t>(item)] = true;
-      for (const ReadHook& hook : read_hooks_[static_cast<std::size_t>(item)]) {
-        hook(static_cast<std::size_t>(item));
-      }
-    }
-  }
-  for (const std::uint16_t t : targets) {
-    out.push_back(image_[t]);
+    out.push_back(image_[*target]);
   }
   return {};
 }
 
-std::vector<ControlTable::Touched> ControlTable::plan_write(std::uint16_t address,
-                                                            std::span<const std::uint8_t> data,
-                                                            TableResult& result) const {
-  std::vector<Touched> touched;
+TableResult ControlTable::plan_write(std::uint16_t address,
+                                     std::span<const std::uint8_t> data) const {
+  touched_.clear();
   for (std::size_t i = 0; i < data.size(); ++i) {
     const std::size_t a = address + i;
     const auto target = a < image_.size() ? resolve(static_cast<std::uint16_t>(a)) : std::nullopt;
     if (!target || item_at_[*target] == kNoItem) {
-      result = TableResult::fail(
+      return TableResult::fail(
           TableError::Access, "address " + std::to_string(a) + " is not an item of " + spec_->name);
-      return {};
     }
     const auto item = static_cast<std::size_t>(item_at_[*target]);
-    auto it = std::find_if(touched.begin(), touched.end(),
-                           [&](const Touched& t) { return t.item == item; });
-    if (it == touched.end()) {
-      const ItemSpec& spec = spec_->items[item];
-      const auto first = image_.begin() + static_cast<std::ptrdiff_t>(spec.address);
-      touched.push_back({item, {first, first + spec.size}, 0});
-      it = std::prev(touched.end());
+    const ItemSpec& spec = spec_->items[item];
+    // Consecutive bytes mostly belong to the same item: look at the last one first.
+    auto it = !touched_.empty() && touched_.back().item == item
+                  ? std::prev(touched_.end())
+                  : std::find_if(touched_.begin(), touched_.end(),
+                                 [&](const Touched& t) { return t.item == item; });
+    if (it == touched_.end()) {
+      Touched& t = touched_.emplace_back();
+      t.item = item;
+      std::copy_n(image_.begin() + spec.address, spec.size, t.bytes.begin());
+      it = std::prev(touched_.end());
     }
-    it->bytes[*target - spec_->items[item].address] = data[i];
+    it->bytes[*target - spec.address] = data[i];
     ++it->covered;
   }
-  std::sort(touched.begin(), touched.end(),
+  std::sort(touched_.begin(), touched_.end(),
             [](const Touched& a, const Touched& b) { return a.item < b.item; });
-  return touched;
+  return {};
 }
 
 std::int64_t ControlTable::value_after(std::size_t item,
                                        const std::vector<Touched>& touched) const {
   for (const Touched& t : touched) {
     if (t.item == item) {
-      return decode(spec_->items[item], t.bytes);
+      return decode(spec_->items[item], std::span(t.bytes).first(spec_->items[item].size));
     }
   }
   return get(item);
@@ -259,7 +250,8 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
                                    (lock_ && get(*lock_) != 0 ? "by Lock" : "while torque is on"));
     }
     // 1.0 Lock: once set, it stays set until power is cycled (includes/control_table_lock.md).
-    if (lock_ && t.item == *lock_ && get(*lock_) != 0 && decode(item, t.bytes) == 0) {
+    if (lock_ && t.item == *lock_ && get(*lock_) != 0 &&
+        decode(item, std::span(t.bytes).first(item.size)) == 0) {
       return TableResult::fail(TableError::Access, "Lock stays 1 until the power is cycled");
     }
   }
@@ -275,7 +267,7 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
   }
   for (const Touched& t : touched) {
     const ItemSpec& item = spec_->items[t.item];
-    const std::int64_t value = decode(item, t.bytes);
+    const std::int64_t value = decode(item, std::span(t.bytes).first(item.size));
     if (const auto range = range_rules_[t.item] ? range_rules_[t.item](t.item) : std::nullopt) {
       if (value < range->min || value > range->max) {
         return TableResult::fail(TableError::DataRange, std::to_string(value) + " is outside " +
@@ -331,42 +323,38 @@ TableResult ControlTable::check_static_range(const ItemSpec& item, std::int64_t 
 
 TableResult ControlTable::check_write(std::uint16_t address, std::span<const std::uint8_t> data,
                                       wire::Protocol protocol) const {
-  TableResult result;
-  const std::vector<Touched> touched = plan_write(address, data, result);
-  if (!result.ok()) {
-    return result;
+  if (running_hooks_) {
+    throw std::logic_error("a write hook of " + spec_->name + " checked a write to its own table");
   }
-  return validate(touched, protocol);
+  const TableResult planned = plan_write(address, data);
+  return planned.ok() ? validate(touched_, protocol) : planned;
 }
 
 TableResult ControlTable::bus_write(std::uint16_t address, std::span<const std::uint8_t> data,
                                     wire::Protocol protocol) {
-  TableResult result;
-  const std::vector<Touched> touched = plan_write(address, data, result);
-  if (!result.ok()) {
-    return result;
-  }
-  result = validate(touched, protocol);
+  TableResult result = check_write(address, data, protocol);
   if (!result.ok()) {
     return result;
   }
   // Whether this write is kept over power-off is decided by the lock as the write arrives.
   const bool keep = !eeprom_keep_ || eeprom_keep_();
-  std::vector<std::int64_t> old_values;
-  old_values.reserve(touched.size());
-  for (const Touched& t : touched) {
+  for (Touched& t : touched_) {
     const ItemSpec& item = spec_->items[t.item];
-    old_values.push_back(get(t.item));
-    std::copy(t.bytes.begin(), t.bytes.end(), image_.begin() + item.address);
-    if (item.area == Area::Eeprom && get(t.item) != old_values.back()) {
+    t.old_value = get(t.item);
+    std::copy_n(t.bytes.begin(), item.size, image_.begin() + item.address);
+    if (item.area == Area::Eeprom && get(t.item) != t.old_value) {
       ++eeprom_changes_;
     }
     keep_if_allowed(t.item, keep);
   }
-  for (std::size_t i = 0; i < touched.size(); ++i) {
-    const std::size_t item = touched[i].item;
-    for (const WriteHook& hook : write_hooks_[item]) {
-      hook(item, old_values[i], get(item));
+  running_hooks_ = true;
+  struct Done {
+    bool& running;
+    ~Done() { running = false; }
+  } done{running_hooks_};
+  for (const Touched& t : touched_) {
+    for (const WriteHook& hook : write_hooks_[t.item]) {
+      hook(t.item, t.old_value, get(t.item));
     }
   }
   return {};
@@ -459,10 +447,6 @@ std::size_t ControlTable::index(std::string_view key) const {
     throw std::out_of_range(spec_->name + " has no item \"" + std::string(key) + "\"");
   }
   return *i;
-}
-
-void ControlTable::on_read(std::string_view key, ReadHook hook) {
-  read_hooks_[index(key)].push_back(std::move(hook));
 }
 
 void ControlTable::on_write(std::string_view key, WriteHook hook) {

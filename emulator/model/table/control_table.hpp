@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -17,12 +18,11 @@ namespace dxlemu::model {
 
 /// The control table of one servo: a byte image in its model's byte order, initialised from it,
 /// with the access rules of the e-Manual enforced on bus reads and writes, Indirect Address/Data,
-/// and hooks through which behaviours and the motion model plug in. Rules and choices:
+/// and per-item write hooks through which behaviours and the motion model plug in: which ones an
+/// item has is declared in one table, model/item_hooks.cpp. Rules and choices:
 /// docs/control-table.md.
 class ControlTable {
  public:
-  /// Called before a bus read touches the item (to refresh a computed value).
-  using ReadHook = std::function<void(std::size_t item)>;
   /// Called after a bus write committed the item, with its old and new value.
   using WriteHook =
       std::function<void(std::size_t item, std::int64_t old_value, std::int64_t new_value)>;
@@ -36,8 +36,9 @@ class ControlTable {
   /// Control Mode); nullopt keeps the item's static range and limit items.
   using RangeRule = std::function<std::optional<ItemRange>(std::size_t item)>;
 
-  /// A table for `spec` with every item at its initial value and its family's rules installed
-  /// (family_rules.hpp).
+  /// A table for `spec` with every item at its initial value and the hooks of the item hook table
+  /// that need nothing but the table installed (its family's rules: item_hooks.hpp). Throws
+  /// std::invalid_argument for an item wider than 8 bytes.
   explicit ControlTable(std::shared_ptr<const ModelSpec> spec);
 
   /// The model this table belongs to.
@@ -76,12 +77,17 @@ class ControlTable {
   /// A bus Read: `length` bytes from `address` into `out`. Reserved bytes between items read as 0
   /// and a read may start or end inside an item; a read past the end of the table is an Access
   /// error and yields no data (protocol2.md "Read"). Indirect Data reads the mapped address.
-  TableResult bus_read(std::uint16_t address, std::uint16_t length, std::vector<std::uint8_t>& out);
+  /// Nothing runs on a read: every value a read shows is in the image already (the motion model
+  /// publishes its Present values when they change).
+  TableResult bus_read(std::uint16_t address, std::uint16_t length,
+                       std::vector<std::uint8_t>& out) const;
 
   /// A bus Write of `data` from `address` under the rules of `protocol`. Every touched item is
   /// validated first (defined, writable, EEPROM unlocked, whole item in 2.0, range, limit,
   /// validators); only then is anything written, so a refused write changes nothing. Write hooks
-  /// run after the commit, in address order.
+  /// run after the commit, in address order. Allocates nothing once the table has seen a write
+  /// as long as the one before (unless refused: the reason is a string). Hooks must not start
+  /// another bus write on the same table (checked: std::logic_error).
   TableResult bus_write(std::uint16_t address, std::span<const std::uint8_t> data,
                         wire::Protocol protocol);
 
@@ -116,8 +122,9 @@ class ControlTable {
   /// The raw byte image (address 0 up to the end of the last item).
   std::span<const std::uint8_t> bytes() const { return image_; }
 
-  /// Registers hooks and rules for an item (several per item run in registration order).
-  void on_read(std::string_view key, ReadHook hook);
+  /// Registers a write hook or a rule for an item (several per item run in registration order).
+  /// The emulator's own are declared in model/item_hooks.cpp and installed from there; these
+  /// calls are how that table plugs in (and how tests watch a table).
   void on_write(std::string_view key, WriteHook hook);
   void add_validator(std::string_view key, Validator validator);
   /// Lets `rule` replace the item's static range and limit items (one rule per item; a later one
@@ -149,14 +156,18 @@ class ControlTable {
   std::uint64_t eeprom_changes() const { return eeprom_changes_; }
 
  private:
+  /// The widest item a table holds: its value is one std::int64_t.
+  static constexpr std::size_t kMaxItemBytes = sizeof(std::int64_t);
+
   struct Touched {
-    std::size_t item;
-    std::vector<std::uint8_t> bytes;  // the item's bytes after the write
-    std::size_t covered = 0;          // how many of them the write supplies
+    std::size_t item = 0;
+    std::array<std::uint8_t, kMaxItemBytes> bytes{};  // the item's bytes after the write
+    std::size_t covered = 0;                          // how many of them the write supplies
+    std::int64_t old_value = 0;                       // set when the write is committed
   };
 
-  std::vector<Touched> plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
-                                  TableResult& result) const;
+  /// Fills touched_ with the items `data` written from `address` touches, by item index.
+  TableResult plan_write(std::uint16_t address, std::span<const std::uint8_t> data) const;
   TableResult validate(const std::vector<Touched>& touched, wire::Protocol protocol) const;
   /// Records EEPROM item `item`'s present value as kept when `keep` (with set_eeprom_keep).
   void keep_if_allowed(std::size_t item, bool keep);
@@ -174,7 +185,6 @@ class ControlTable {
   std::vector<std::int64_t> eeprom_kept_;   // item -> kept value (EEPROM, with eeprom_keep_)
   std::vector<int> item_at_;                // address -> item index, -1 for reserved bytes
   std::vector<int> indirect_address_;       // address -> item index of its Indirect Address, or -1
-  std::vector<std::vector<ReadHook>> read_hooks_;
   std::vector<std::vector<WriteHook>> write_hooks_;
   std::vector<std::vector<Validator>> validators_;
   std::vector<RangeRule> range_rules_;
@@ -182,6 +192,10 @@ class ControlTable {
   std::optional<std::size_t> torque_enable_;
   std::optional<std::size_t> lock_;
   std::uint64_t eeprom_changes_ = 0;
+  // The items of the write being planned, checked or committed: kept between writes so that a
+  // write allocates nothing once one as long has been seen (Sync Write reaches every servo).
+  mutable std::vector<Touched> touched_;
+  bool running_hooks_ = false;  // a write's hooks are running: touched_ is in use
 };
 
 }  // namespace dxlemu::model

@@ -1,5 +1,7 @@
 #include "model/table/dual_axis.hpp"
 
+#include "model/item_hooks.hpp"
+
 namespace dxlemu::model {
 
 void link_axes(ControlTable& first, ControlTable& second) {
@@ -8,15 +10,12 @@ void link_axes(ControlTable& first, ControlTable& second) {
   };
   first.set_eeprom_lock([both_off] { return !both_off(); });
   second.set_eeprom_lock([both_off] { return !both_off(); });
-  for (const std::string& key : first.spec().shared_items) {
-    // set() bypasses hooks, so the copy does not echo back.
-    first.on_write(key, [&first, &second](std::size_t item, std::int64_t, std::int64_t) {
-      second.set(item, first.get(item));
-    });
-    second.on_write(key, [&first, &second](std::size_t item, std::int64_t, std::int64_t) {
-      first.set(item, second.get(item));
-    });
-  }
+  install_item_hooks(HookScope{first, nullptr, &second}, HookNeeds::OtherAxis);
+  install_item_hooks(HookScope{second, nullptr, &first}, HookNeeds::OtherAxis);
+}
+
+void copy_to_other_axis(const ControlTable& from, ControlTable& to, std::size_t item) {
+  to.set(item, from.get(item));
 }
 
 }  // namespace dxlemu::model

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "bus_rig.hpp"
+#include "model/spec/firmware_variant.hpp"
 #include "model/spec/model_loader.hpp"
 #include "wire/hex.hpp"
 

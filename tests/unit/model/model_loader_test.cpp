@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "model/spec/firmware_variant.hpp"
 #include "model/spec/model_loader.hpp"
 #include "test_model.hpp"
 
