@@ -197,11 +197,14 @@ void BasicRealTimeDriver<Clock>::rearm() {
     }
     armed_ = expiry;
     timer_.expires_at(expiry);
-    timer_.async_wait([this](const boost::system::error_code& ec) {
-      if (ec) {
-        return;  // re-armed or shut down
+    timer_.async_wait([this, expiry](const boost::system::error_code& ec) {
+      // A wake-up that is no longer the pending wait is stale: its timer had expired, its
+      // handler queued beyond cancelling, when another handler disarmed or re-armed (Asio then
+      // reports success, not operation_aborted). What it was for is handled elsewhere now.
+      if (ec || armed_ != expiry) {
+        return;  // re-armed, disarmed or shut down
       }
-      lead_.add(clock_.now() - *armed_);
+      lead_.add(clock_.now() - expiry);
       armed_.reset();
       spin_to_deadline();
       run_due();

@@ -253,3 +253,28 @@ TEST_CASE("Manual pace runs only what is due at the present, at once, and never 
   CHECK(rig.ran == std::vector{at(nanoseconds(0)), at(milliseconds(1)), at(milliseconds(1))});
   CHECK(rig.time.spins().empty());
 }
+
+TEST_CASE("A wake-up already queued when the driver re-armed runs nothing", "[io][driver]") {
+  Rig rig;
+  const auto id = rig.scheduler.schedule_at(at(milliseconds(1)), [] {});
+  rig.driver.rearm();
+  // The timer expires; before its handler runs, another handler (bytes from the client) moves
+  // the deadline and re-arms. The queued wake-up can no longer be cancelled: Asio hands it
+  // success.
+  rig.time.advance_to(rig.clock_at(milliseconds(1) - kWindow));
+  rig.scheduler.cancel(id);
+  rig.event_at(milliseconds(1) + microseconds(100));
+  rig.driver.catch_up();
+  rig.driver.rearm();
+  CHECK(rig.time.timer().settings() == 2);
+  rig.poll();
+  CHECK(rig.after_events == 0);
+  CHECK(rig.time.timer().settings() == 2);  // still the wait armed for the new deadline
+  CHECK(rig.time.timer().waiting());
+
+  rig.time.advance_to(rig.clock_at(milliseconds(1) + microseconds(100) - kWindow));
+  rig.poll();
+  CHECK(rig.ran == std::vector{at(milliseconds(1) + microseconds(100))});
+  CHECK(rig.time.spins() == std::vector<ManualTime::duration>{kWindow});
+  CHECK(rig.after_events == 1);
+}
