@@ -250,7 +250,7 @@ TEST_CASE("A client that stops sending gets the replies to its complete lines, t
   client.shutdown_sending();
   settle(rig.io);
   CHECK(client.lines() == Lines{"A", "B"});
-  CHECK_FALSE(client.read_now());  // closed by the server
+  CHECK_FALSE(client.read_now());                        // closed by the server
   CHECK(handled == std::vector<std::string>{"a", "b"});  // empty lines reach no handler
   CHECK(rig.closed == std::vector<std::uint64_t>{1});
 }
@@ -279,7 +279,8 @@ TEST_CASE("A session sends events after its handler returned, and nothing once i
   CHECK(subscriber == nullptr);  // on_close ran
 }
 
-TEST_CASE("A client that does not read is read no more, then disconnected", "[io][control_server]") {
+TEST_CASE("A client that does not read is read no more, then disconnected",
+          "[io][control_server]") {
   const std::string big(std::size_t{256} * 1024, 'x');
   std::size_t requests = 0;
   Rig rig(ControlServer::kDefaultMaxLine, [&](std::string_view, ControlSession&) {

@@ -110,9 +110,10 @@ TEST_CASE("catch_up runs what is due by the clock and nothing later", "[io][driv
   CHECK(rig.after_events == 0);  // only the driver's own wake-ups call it
 }
 
-TEST_CASE("A deadline inside the wake lead is spun for in a handler of its own, after those "
-          "already queued",
-          "[io][driver]") {
+TEST_CASE(
+    "A deadline inside the wake lead is spun for in a handler of its own, after those "
+    "already queued",
+    "[io][driver]") {
   Rig rig;
   std::vector<int> order;
   boost::asio::post(rig.io, [&] { order.push_back(static_cast<int>(rig.ran.size())); });
@@ -140,8 +141,7 @@ TEST_CASE("The chained events of one wake-up each get their own spin", "[io][dri
   CHECK(rig.after_events == 2);
 }
 
-TEST_CASE("Re-arming for the deadline already waited for leaves the timer alone",
-          "[io][driver]") {
+TEST_CASE("Re-arming for the deadline already waited for leaves the timer alone", "[io][driver]") {
   Rig rig;
   rig.event_at(milliseconds(1));
   rig.driver.rearm();
@@ -170,8 +170,7 @@ TEST_CASE("With nothing left to run the timer is cancelled and its wake-up runs 
   CHECK(rig.time.spins().empty());
 }
 
-TEST_CASE("A wake-up whose deadline moved away spins for nothing and waits again",
-          "[io][driver]") {
+TEST_CASE("A wake-up whose deadline moved away spins for nothing and waits again", "[io][driver]") {
   Rig rig;
   const auto id = rig.scheduler.schedule_at(at(milliseconds(1)), [] {});
   rig.driver.rearm();
