@@ -16,11 +16,6 @@
 namespace dxlemu::io {
 namespace {
 
-// Replies waiting for room in the PTY, at most: beyond it, a client that does not read loses
-// further replies, as a serial adapter's full receive buffer does, instead of the daemon keeping
-// them without limit and handing them over, stale, whenever the client reads again.
-constexpr std::size_t kMaxQueuedBytes = std::size_t{64} * 1024;
-
 // Raw mode: no echo, no line discipline, no newline translation; the client may change any of
 // it, which the emulator accepts.
 void make_raw(int fd) {

@@ -23,6 +23,11 @@ namespace dxlemu::io {
 /// reporting EIO (and without a busy loop while nobody is connected).
 class PtyLink : public bus::ByteLink {
  public:
+  /// Bytes that wait for room in the PTY, at most: beyond it, a client that does not read loses
+  /// further packets, as a serial adapter's full receive buffer does, instead of the daemon keeping
+  /// them without limit and handing them over, stale, whenever the client reads again.
+  static constexpr std::size_t kMaxQueuedBytes = std::size_t{64} * 1024;
+
   /// Called with the bytes the client wrote and the client's baud rate at that moment.
   using OnBytes =
       std::function<void(std::span<const std::uint8_t> bytes, std::uint32_t client_bps)>;
@@ -43,9 +48,13 @@ class PtyLink : public bus::ByteLink {
   void start(OnBytes on_bytes);
 
   /// Writes `bytes` to the client (queued; never blocks). `at` and `bps` are not used: the driver
-  /// calls this at the right moment. While 64 KiB wait for room in the PTY (the client reads
-  /// nothing), further packets are dropped.
+  /// calls this at the right moment, and a PTY has no line rate. A packet is never torn: what the
+  /// PTY does not take at once waits in a queue, in order, and is written as the client reads.
+  /// While the queue is not empty, a packet that would take it beyond kMaxQueuedBytes (the client
+  /// reads nothing) is dropped whole: returns false.
   bool deliver(std::span<const std::uint8_t> bytes, sim::SimTime at, std::uint32_t bps) override;
+  /// Bytes waiting for room in the PTY now.
+  std::size_t queued_bytes() const { return queued_bytes_; }
 
  private:
   /// Reads the client's bytes and hands them on, again and again.
