@@ -1,14 +1,12 @@
 #include "app/daemon/emulator.hpp"
 
-#include <unistd.h>
-
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <chrono>
 #include <csignal>
-#include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "app/config/make_servo.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "app/daemon/log.hpp"
 #include "app/record/trace_record.hpp"
@@ -148,18 +146,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
     for (const ServoConfig& servo : port_config.servos) {
-      model::Servo& added = port->bus->add_servo(
-          std::make_unique<model::Servo>(library.find(servo.model), servo.id, options.tick));
-      for (const auto& [key, value] : servo.items) {
-        // Written before the emulator started: an EEPROM value is kept over power cycles even
-        // where a FEETECH Lock flag of 1 would lose a bus write.
-        const std::size_t item = added.table().index(key);
-        if (added.spec().items[item].area == model::Area::Eeprom) {
-          added.table().restore_kept(item, value);
-        } else {
-          added.table().set(item, value);
-        }
-      }
+      port->bus->add_servo(make_servo(library, servo, options.tick));
     }
     // One observer feeds the trace file, the capture and the control API's trace subscribers,
     // so all can be on at once; each record is built once, only when someone wants it.
@@ -275,12 +262,6 @@ void Emulator::schedule_physics_catch_up() {
 
 void Emulator::warn(const std::string& message) {
   log(LogLevel::Warn, message);
-}
-
-std::filesystem::path default_control_path() {
-  const char* runtime = std::getenv("XDG_RUNTIME_DIR");
-  const std::filesystem::path dir = runtime != nullptr && *runtime != '\0' ? runtime : "/tmp";
-  return dir / ("dxlemu-" + std::to_string(::getpid()) + ".sock");
 }
 
 std::vector<std::string> Emulator::port_names() const {
