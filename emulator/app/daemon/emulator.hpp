@@ -1,9 +1,6 @@
 #pragma once
 
 #include <boost/asio/io_context.hpp>
-#include <filesystem>
-#include <fstream>
-#include <map>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -12,10 +9,9 @@
 
 #include "app/config/bus_config.hpp"
 #include "app/config/model_library.hpp"
-#include "app/daemon/bus_state.hpp"
 #include "app/daemon/run_options.hpp"
-#include "app/record/pcap_writer.hpp"
-#include "bus/late_reply_guard.hpp"
+#include "app/daemon/state_keeper.hpp"
+#include "app/daemon/trace_fan_out.hpp"
 #include "control/api.hpp"
 #include "control/target.hpp"
 #include "io/control_server.hpp"
@@ -26,9 +22,11 @@
 
 namespace dxlemu::app {
 
-/// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, a PTY
-/// and a Bus per port, and the control socket. Construction opens everything or throws; nothing
-/// runs half-configured. It is the control API's Target (docs/control-api.md).
+/// The running emulator: one io_context, one thread, a scheduler bound to the wall clock, a PTY,
+/// its link chain (PortLinkChain) and a Bus per port, the state file (StateKeeper), the trace,
+/// capture and trace subscribers (TraceFanOut), and the control socket. A facade: it wires these
+/// parts together and runs them; construction opens everything or throws, so nothing runs
+/// half-configured. It is the control API's Target (docs/control-api.md).
 class Emulator : public control::Target {
  public:
   /// Builds every port of `config` (already validated by parse_config or check_servo), restores
@@ -49,8 +47,9 @@ class Emulator : public control::Target {
   void step_clock(sim::SimDuration d) override;
   void request_shutdown() override;
   faults::Injector& faults() override { return injector_; }
-  void subscribe_trace(std::uint64_t client, std::vector<std::string> ports) override;
-  void unsubscribe_trace(std::uint64_t client) override;
+  void subscribe_trace(const control::Connection& connection,
+                       std::vector<std::string> ports) override;
+  void unsubscribe_trace(std::uint64_t connection) override;
   void schedule_in(sim::SimDuration delay, std::function<void()> action) override;
   void warn(const std::string& message) override;
 
@@ -60,14 +59,8 @@ class Emulator : public control::Target {
 
  private:
   struct Port;
-  void restore(const BusState& state);
-  /// Writes one trace record of `port` (a JSON object on one line) to the trace file and to the
-  /// subscribers of that port.
-  void trace(const std::string& port, const std::string& line);
   /// What every I/O handler does last: flushes the trace file and saves the state if it changed.
   void finish_handler();
-  /// Saves the state file if any servo's EEPROM changed since the last save.
-  void save_state_if_changed();
   /// Keeps the physics world within 10 ms of simulated time, so that a read after a
   /// long quiet spell does not run all the ticks since at once.
   void schedule_physics_catch_up();
@@ -82,22 +75,9 @@ class Emulator : public control::Target {
   // The world the servos drive (null without "physics"); outlives the servos coupled to it.
   std::unique_ptr<physics::WorldClock> world_;
   std::optional<control::PhysicsView> physics_view_;  // of world_, for the control API
+  std::unique_ptr<StateKeeper> state_;
+  std::unique_ptr<TraceFanOut> trace_;  // every bus's observer: outlives the buses
   std::vector<std::unique_ptr<Port>> ports_;
-  std::ofstream trace_;
-  std::ofstream pcap_file_;
-  std::unique_ptr<PcapWriter> pcap_;  // writes to pcap_file_; null without --pcap
-  std::vector<std::vector<std::uint8_t>> saved_eeprom_;  // per servo, ports in order
-  /// The servos' ControlTable::eeprom_changes() summed when saved_eeprom_ was last compared with
-  /// them (each count only grows, so an equal sum means no EEPROM byte changed since).
-  std::optional<std::uint64_t> checked_eeprom_changes_;
-  /// A control connection that asked for trace events (trace.subscribe) and its ports (all when
-  /// empty). The server reports every close, so the session pointer never dangles.
-  struct Subscriber {
-    io::ControlSession* session = nullptr;
-    std::vector<std::string> ports;
-  };
-  std::map<std::uint64_t, Subscriber> subscribers_;  // by connection id
-  io::ControlSession* current_session_ = nullptr;    // whose request is being handled
   std::unique_ptr<control::Api> api_;
   std::unique_ptr<io::ControlServer> control_;
   bool shutting_down_ = false;
