@@ -38,7 +38,7 @@ std::unique_ptr<TraceFanOut> TraceFanOut::open(const std::optional<std::filesyst
   return std::make_unique<TraceFanOut>(std::move(trace_file), std::move(pcap_file), pcap_start);
 }
 
-bus::LineObserver TraceFanOut::observer(std::string port, std::size_t index) {
+bus::LineObserver TraceFanOut::observer(const std::string& port, std::size_t index) {
   return {
       [this, port, index](const wire::FramerEvent& event) {
         if (tracing()) {

@@ -20,8 +20,8 @@ namespace dxlemu::app {
 /// Where the packets crossing every port's line go: the trace file (--trace, JSON lines,
 /// docs/trace.md), the capture (--pcap, docs/pcap.md) and the control API's trace subscribers
 /// (trace.subscribe), all at once. Each port's bus gets one observer from it; a trace record is
-/// built once per packet, and only when a trace file or a subscriber wants it. No I/O of its own
-/// beyond writing to the streams it owns and calling the subscribers' send.
+/// built once per packet, and only when a trace file or a subscriber wants it. Apart from open(),
+/// which creates the files, it only writes to the streams it owns and calls the subscribers' send.
 class TraceFanOut {
  public:
   /// Writes trace lines to `trace` and a capture whose simulated time zero is the wall-clock time
@@ -42,7 +42,7 @@ class TraceFanOut {
 
   /// The observer for the bus of the port named `port`, number `index` in config order (the
   /// capture's port byte). The fan-out must outlive the bus's use of it.
-  bus::LineObserver observer(std::string port, std::size_t index);
+  bus::LineObserver observer(const std::string& port, std::size_t index);
 
   /// Sends the trace events of `ports` (every port when empty) to `connection` from now on,
   /// replacing an earlier subscription of that connection; keeps a copy of it until

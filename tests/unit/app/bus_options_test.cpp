@@ -34,7 +34,7 @@ using Items = std::vector<std::pair<std::string, std::int64_t>>;
 
 }  // namespace
 
-TEST_CASE("--servo NAME:ID is one servo, NAME:FIRST-LAST one per ID", "[app][config]") {
+TEST_CASE("A --servo of NAME:ID is one servo, NAME:FIRST-LAST one per ID", "[app][config]") {
   CHECK(parse_servo_option("xm430-w350:7") == std::vector<app::ServoConfig>{{"xm430-w350", 7, {}}});
   CHECK(parse_servo_option("ex-106+:1-3") == std::vector<app::ServoConfig>{
                                                  {"ex-106+", 1, {}},
@@ -61,7 +61,7 @@ TEST_CASE("A malformed --servo is refused naming the option", "[app][config]") {
         "--servo xm430-w350:1-253: IDs must lie in 0 ~ 252, first <= last");
 }
 
-TEST_CASE("--baud and --protocol come after a servo's own overrides", "[app][config]") {
+TEST_CASE("The --baud and --protocol items come after a servo's own overrides", "[app][config]") {
   app::BusConfig config = one_port({{"xm430-w350", 1, {{"return_delay_time", 0}}}});
   app::apply_bus_options(config, library(), 1000000, 1);
   // Baud Rate 3 is 1 Mbps and Protocol Type 1 is DYNAMIXEL 1.0 in the XM430's model file.
