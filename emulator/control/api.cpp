@@ -146,17 +146,17 @@ std::vector<std::string> Api::command_names() {
   return names;
 }
 
-std::string Api::handle(std::string_view line, std::uint64_t client) {
+std::string Api::handle(std::string_view line, const Connection* connection) {
   ordered_json request;
   try {
     request = parse(line);
   } catch (const Refusal& e) {
     return reply_line(error_reply(nullptr, e.what()));
   }
-  return reply_line(run(request, client));
+  return reply_line(run(request, connection));
 }
 
-ordered_json Api::run(const ordered_json& request, std::uint64_t client) {
+ordered_json Api::run(const ordered_json& request, const Connection* connection) {
   ordered_json id = nullptr;
   try {
     if (!request.is_object()) {
@@ -167,7 +167,7 @@ ordered_json Api::run(const ordered_json& request, std::uint64_t client) {
     }
     const Command& command = command_for(request);
     check_fields(request, command);
-    ordered_json result = command.run(target_, Args(request, command.name, client));
+    ordered_json result = command.run(target_, Args(request, command.name, connection));
     return ok_reply(id, std::move(result));
   } catch (const Refusal& e) {
     return error_reply(std::move(id), e.what());

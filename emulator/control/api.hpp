@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "control/connection.hpp"
 #include "control/target.hpp"
 #include "sim/sim_time.hpp"
 
@@ -28,13 +29,15 @@ class Api {
   /// An API acting on `target`, which must outlive it.
   explicit Api(Target& target);
 
-  /// Handles one request from connection `client` (0: none): `line` is JSON without its newline.
+  /// Handles one request from `connection` (null: none): `line` is JSON without its newline.
   /// Returns the reply as one line of JSON without the newline. Never throws: a malformed
   /// request gets an error reply.
-  std::string handle(std::string_view line, std::uint64_t client = 0);
+  std::string handle(std::string_view line, const Connection* connection = nullptr);
 
-  /// Runs a request already parsed (a scenario step); returns the reply object. Never throws.
-  nlohmann::ordered_json run(const nlohmann::ordered_json& request, std::uint64_t client = 0);
+  /// Runs a request already parsed (a scenario step) from `connection` (null: none); returns the
+  /// reply object. Never throws.
+  nlohmann::ordered_json run(const nlohmann::ordered_json& request,
+                             const Connection* connection = nullptr);
 
   /// What is wrong with `request` (unknown command or argument, a bad fault rule, an unknown
   /// port or servo), found without running it; nullopt when nothing is.

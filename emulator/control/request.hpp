@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "control/connection.hpp"
 #include "control/port_view.hpp"
 #include "control/target.hpp"
 #include "model/servo.hpp"
@@ -44,14 +45,15 @@ std::string byte_count(std::size_t size);
 /// nullopt, one of the wrong type is refused naming it.
 class Args {
  public:
-  /// The arguments of `request` for `command`, sent by connection `client` (0: none, e.g. a
-  /// scenario step).
-  Args(const ordered_json& request, std::string_view command, std::uint64_t client = 0)
-      : request_(request), command_(command), client_(client) {}
+  /// The arguments of `request` for `command`, sent by `connection` (null: none, e.g. a scenario
+  /// step), which must outlive the Args.
+  Args(const ordered_json& request, std::string_view command,
+       const Connection* connection = nullptr)
+      : request_(request), command_(command), connection_(connection) {}
 
   std::string_view command() const { return command_; }
-  /// The connection that sent the request, or 0.
-  std::uint64_t client() const { return client_; }
+  /// The connection that sent the request, or nullptr.
+  const Connection* connection() const { return connection_; }
 
   bool has(std::string_view key) const { return find(key) != nullptr; }
 
@@ -129,7 +131,7 @@ class Args {
 
   const ordered_json& request_;
   std::string_view command_;
-  std::uint64_t client_;
+  const Connection* connection_;
 };
 
 /// A port a request names.

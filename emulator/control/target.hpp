@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "control/connection.hpp"
 #include "control/physics_view.hpp"
 #include "control/port_view.hpp"
 #include "faults/injector.hpp"
@@ -38,11 +39,12 @@ class Target {
   /// The fault rules every bus applies (docs/faults.md). The target owns them; every bus follows
   /// a change of them at once.
   virtual faults::Injector& faults() = 0;
-  /// Sends every packet of `ports` (all ports when empty) to connection `client` as trace events
-  /// from now on, replacing an earlier subscription of that client (trace.subscribe).
-  virtual void subscribe_trace(std::uint64_t client, std::vector<std::string> ports) = 0;
-  /// Ends connection `client`'s trace events; nothing happens if it has none.
-  virtual void unsubscribe_trace(std::uint64_t client) = 0;
+  /// Sends every packet of `ports` (all ports when empty) to `connection` as trace events from
+  /// now on, replacing an earlier subscription of that connection (trace.subscribe). The target
+  /// keeps a copy of `connection` until it unsubscribes or the connection closes.
+  virtual void subscribe_trace(const Connection& connection, std::vector<std::string> ports) = 0;
+  /// Ends the trace events of connection `connection` (its id); nothing happens if it has none.
+  virtual void unsubscribe_trace(std::uint64_t connection) = 0;
   /// Runs `action` once simulated time has advanced by `delay` (scenario steps).
   virtual void schedule_in(sim::SimDuration delay, std::function<void()> action) = 0;
   /// Reports a problem that has no request to answer (a scenario step that failed).

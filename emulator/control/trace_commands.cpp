@@ -4,17 +4,17 @@ namespace dxlemu::control {
 
 namespace {
 
-std::uint64_t connection(const Args& args) {
-  if (args.client() == 0) {
+const Connection& connection(const Args& args) {
+  if (args.connection() == nullptr) {
     refuse(std::string(args.command()) + " needs a connection to send events to");
   }
-  return args.client();
+  return *args.connection();
 }
 
 }  // namespace
 
 ordered_json trace_subscribe(Target& target, const Args& args) {
-  const std::uint64_t client = connection(args);
+  const Connection& client = connection(args);
   std::vector<std::string> ports;
   if (args.has("port")) {
     ports.push_back(port_of(target, args).name);
@@ -24,7 +24,7 @@ ordered_json trace_subscribe(Target& target, const Args& args) {
 }
 
 ordered_json trace_unsubscribe(Target& target, const Args& args) {
-  target.unsubscribe_trace(connection(args));
+  target.unsubscribe_trace(connection(args).id);
   return ordered_json::object();
 }
 

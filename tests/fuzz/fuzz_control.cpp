@@ -55,18 +55,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   ControlTarget target;
   build(target);
   dxlemu::control::Api api(target);
-  std::uint64_t client = 1;
+  dxlemu::control::Connection client{1, [](const std::string& /*line*/) {}};
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t end = std::min(text.find('\n', start), text.size());
     const std::string_view line = text.substr(start, end - start);
     // Each request from its own connection now and then, so trace subscriptions vary.
-    check_control_reply(line, api.handle(line, client));
-    client = client % 3 + 1;
+    check_control_reply(line, api.handle(line, &client));
+    client.id = client.id % 3 + 1;
     start = end + 1;
   }
   // Whatever came before, the target still answers a plain request.
   const std::string list = R"({"id": 1, "cmd": "list"})";
-  FUZZ_REQUIRE(check_control_reply(list, api.handle(list, client)));
+  FUZZ_REQUIRE(check_control_reply(list, api.handle(list, &client)));
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <array>
 #include <stdexcept>
 
+#include "app/config/make_servo.hpp"
 #include "app/config/physics_config.hpp"
 #include "app/config/robot_library.hpp"
 
@@ -26,16 +27,7 @@ app::BusConfig profile_with_physics(const std::filesystem::path& profile,
 ArmRig::ArmRig(const app::BusConfig& config, bool with_physics, sim::SimDuration tick) {
   for (const app::PortConfig& port : config.ports) {
     for (const app::ServoConfig& s : port.servos) {
-      auto servo = std::make_unique<model::Servo>(shipped_library().find(s.model), s.id, tick);
-      for (const auto& [key, value] : s.items) {
-        const std::size_t item = servo->table().index(key);
-        if (servo->spec().items[item].area == model::Area::Eeprom) {
-          servo->table().restore_kept(item, value);
-        } else {
-          servo->table().set(item, value);
-        }
-      }
-      servos_.push_back(std::move(servo));
+      servos_.push_back(app::make_servo(shipped_library(), s, tick));
     }
   }
   if (!with_physics || !config.physics) {

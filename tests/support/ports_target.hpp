@@ -83,8 +83,9 @@ class PortsTarget : public control::Target {
   void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
   void request_shutdown() override { shutdown_requested = true; }
   faults::Injector& faults() override { return injector; }
-  void subscribe_trace(std::uint64_t client, std::vector<std::string> names) override {
-    subscriptions[client] = std::move(names);
+  void subscribe_trace(const control::Connection& connection,
+                       std::vector<std::string> names) override {
+    subscriptions[connection.id] = std::move(names);
   }
   void unsubscribe_trace(std::uint64_t client) override { subscriptions.erase(client); }
   void schedule_in(sim::SimDuration delay, std::function<void()> action) override {

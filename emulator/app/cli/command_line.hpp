@@ -9,7 +9,7 @@
 
 #include "app/cli/exec_setup.hpp"
 #include "app/config/model_library.hpp"
-#include "app/daemon/emulator.hpp"
+#include "app/daemon/run_options.hpp"
 
 namespace dxlemu::app {
 

@@ -1,20 +1,16 @@
 #include "app/daemon/emulator.hpp"
 
-#include <unistd.h>
-
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <chrono>
 #include <csignal>
-#include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "app/config/make_servo.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "app/daemon/log.hpp"
-#include "app/record/trace_record.hpp"
+#include "app/daemon/port_link_chain.hpp"
 #include "bus/bus.hpp"
-#include "bus/late_reply_guard.hpp"
-#include "bus/usb_adapter_link.hpp"
 #include "control/reply.hpp"
 #include "control/scenario.hpp"
 #include "faults/port_faults.hpp"
@@ -32,27 +28,12 @@ constexpr std::chrono::milliseconds kShutdownFlush{100};
 // How far the physics world may lag simulated time between reads (Emulator::world_).
 constexpr std::chrono::milliseconds kPhysicsCatchUp{10};
 
-// The USB serial adapter in front of `port`: its own settings, else the command line's. None
-// under fast timing, whose replies come at once (docs/timing.md "USB adapter latency").
-bus::UsbAdapter usb_adapter(const PortConfig& port, const RunOptions& options) {
-  const int latency_ms = port.adapter_latency_ms.value_or(options.adapter_latency_ms);
-  const std::string chip = port.adapter_chip.value_or(options.adapter_chip);
-  if (latency_ms == 0 || options.timing == TimingMode::Fast) {
-    return {};
-  }
-  return {std::chrono::milliseconds(latency_ms), adapter_packet_data(chip).value()};
-}
-
 }  // namespace
 
 struct Emulator::Port {
   PortConfig config;
   std::unique_ptr<io::PtyLink> pty;
-  /// Between the bus and the PTY under realtime and fast timing: measures how late replies go
-  /// out and drops those the client no longer waits for.
-  std::unique_ptr<bus::LateReplyGuard> guard;
-  std::unique_ptr<bus::UsbAdapterLink> adapter;  // between the bus and the PTY; null: none
-  std::string adapter_chip;
+  std::unique_ptr<PortLinkChain> links;  // between the bus and the PTY
   std::unique_ptr<bus::Bus> bus;
   std::unique_ptr<faults::PortFaults> faults;  // the fault rules as the bus meets them
   std::unique_ptr<BusPortView> view;           // the bus as the control API sees it
@@ -86,23 +67,12 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
                             config.physics->mjcf.string() + ", " +
                             std::to_string(world_->substeps()) + " step(s) per motion tick");
   }
-  const BusState state = options_.state ? read_state(*options_.state) : BusState{};
-  if (options_.trace) {
-    trace_.open(*options_.trace, std::ios::trunc);
-    if (!trace_) {
-      throw ConfigError(options_.trace->string(), "", "cannot be created (--trace)");
-    }
-  }
-  if (options_.pcap) {
-    pcap_file_.open(*options_.pcap, std::ios::binary | std::ios::trunc);
-    if (!pcap_file_) {
-      throw ConfigError(options_.pcap->string(), "", "cannot be created (--pcap)");
-    }
-    // The one wall-clock read of the capture: simulated time started with the driver, just now.
-    const auto start = std::chrono::duration_cast<std::chrono::microseconds>(
-        std::chrono::system_clock::now().time_since_epoch());
-    pcap_ = std::make_unique<PcapWriter>(pcap_file_, start);
-  }
+  state_ =
+      std::make_unique<StateKeeper>(StateKeeper::open(options_.state, io::write_file_atomically));
+  // The one wall-clock read of the capture: simulated time started with the driver, just now.
+  const auto pcap_start = std::chrono::duration_cast<std::chrono::microseconds>(
+      std::chrono::system_clock::now().time_since_epoch());
+  trace_ = TraceFanOut::open(options_.trace, options_.pcap, pcap_start);
   if (options_.realtime_priority) {
     const io::RealtimeScheduling granted =
         io::request_realtime_scheduling(*options_.realtime_priority);
@@ -122,74 +92,26 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     auto port = std::make_unique<Port>();
     port->config = port_config;
     port->pty = std::make_unique<io::PtyLink>(io_, port_config.link);
-    bus::ByteLink* link = port->pty.get();
-    if (options_.timing != TimingMode::Manual) {
-      // Under manual timing simulated time is not the wall clock's: nothing can be late.
-      bus::LateReplyPolicy policy;
-      policy.drop_after = options_.late_reply_limit;
-      port->guard = std::make_unique<bus::LateReplyGuard>(
-          *link, [this] { return driver_.wall_now(); }, policy,
-          [name = port_config.name](const std::string& message) {
-            log(LogLevel::Warn, name + ": " + message);
-          });
-      link = port->guard.get();
-    }
-    // The adapter before the guard: the guard measures when the adapter's USB packets go out.
-    if (const bus::UsbAdapter usb = usb_adapter(port_config, options_);
-        usb.latency > sim::SimDuration::zero()) {
-      port->adapter = std::make_unique<bus::UsbAdapterLink>(scheduler_, *link, usb);
-      port->adapter_chip = port_config.adapter_chip.value_or(options_.adapter_chip);
-      link = port->adapter.get();
-    } else if (options_.timing == TimingMode::Fast &&
-               port_config.adapter_latency_ms.value_or(options_.adapter_latency_ms) != 0) {
-      log(LogLevel::Warn, port_config.name + ": no USB adapter latency under --timing fast");
-    }
-    port->bus = std::make_unique<bus::Bus>(scheduler_, *link);
-    port->view = std::make_unique<BusPortView>(*port->bus, port->guard.get());
+    port->links = std::make_unique<PortLinkChain>(
+        *port->pty, scheduler_, [this] { return driver_.wall_now(); }, port_config, options_);
+    port->bus = std::make_unique<bus::Bus>(scheduler_, port->links->bus_side());
+    port->view = std::make_unique<BusPortView>(*port->bus, port->links->guard());
     if (options_.timing != TimingMode::Realtime) {
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
     for (const ServoConfig& servo : port_config.servos) {
-      model::Servo& added = port->bus->add_servo(
-          std::make_unique<model::Servo>(library.find(servo.model), servo.id, options.tick));
-      for (const auto& [key, value] : servo.items) {
-        // Written before the emulator started: an EEPROM value is kept over power cycles even
-        // where a FEETECH Lock flag of 1 would lose a bus write.
-        const std::size_t item = added.table().index(key);
-        if (added.spec().items[item].area == model::Area::Eeprom) {
-          added.table().restore_kept(item, value);
-        } else {
-          added.table().set(item, value);
-        }
-      }
+      port->bus->add_servo(make_servo(library, servo, options.tick));
     }
     // One observer feeds the trace file, the capture and the control API's trace subscribers,
-    // so all can be on at once; each record is built once, only when someone wants it.
-    const std::string name = port_config.name;
-    const std::size_t index = ports_.size();
-    port->bus->set_observer({[this, name, index](const wire::FramerEvent& event) {
-                               if (trace_.is_open() || !subscribers_.empty()) {
-                                 trace(name, heard_record(name, event));
-                               }
-                               if (pcap_) {
-                                 pcap_->heard(index, event);
-                               }
-                             },
-                             [this, name, index](std::span<const std::uint8_t> bytes,
-                                                 sim::SimTime at, wire::Protocol p) {
-                               if (trace_.is_open() || !subscribers_.empty()) {
-                                 trace(name, sent_record(name, bytes, at, p));
-                               }
-                               if (pcap_) {
-                                 pcap_->sent(index, bytes, at, p);
-                               }
-                             }});
+    // so all can be on at once.
+    port->bus->set_observer(trace_->observer(port_config.name, ports_.size()));
+    state_->add_port(port_config.name, *port->bus);
     port->faults = std::make_unique<faults::PortFaults>(scheduler_, port->bus->servos());
     port->faults->set_rules(&injector_, port_config.name);
     port->bus->set_faults(port->faults.get());
     ports_.push_back(std::move(port));
   }
-  restore(state);
+  state_->restore();
   if (config.physics) {
     for (std::size_t i = 0; i < joints.size(); ++i) {
       const JointConfig& j = config.physics->joints[i];
@@ -216,15 +138,16 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       io_, options_.control.value_or(default_control_path()),
       [this](std::string_view line, io::ControlSession& session) {
         driver_.catch_up();
-        current_session_ = &session;
-        std::string reply = api_->handle(line, session.id());
-        current_session_ = nullptr;
+        // The session stays valid until on_close, which ends its trace events.
+        const control::Connection connection{
+            session.id(), [&session](std::string event) { session.send(std::move(event)); }};
+        std::string reply = api_->handle(line, &connection);
         driver_.rearm();
         finish_handler();  // a set of an EEPROM item is kept like a bus write
         return reply;
       },
       io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
-  control_->on_close([this](io::ControlSession& session) { subscribers_.erase(session.id()); });
+  control_->on_close([this](io::ControlSession& session) { trace_->unsubscribe(session.id()); });
   if (options_.scenario) {
     // Its steps count from now, the start of simulated time.
     const std::string origin = options_.scenario->string();
@@ -238,32 +161,13 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
 
 Emulator::~Emulator() = default;
 
-void Emulator::trace(const std::string& port, const std::string& line) {
-  if (trace_.is_open()) {
-    trace_ << line << '\n';  // flushed when the handler is done (finish_handler)
-  }
-  if (subscribers_.empty()) {
-    return;
-  }
-  // The same members after "event": a record is never empty, so `line` is "{...,...}".
-  const std::string event = R"({"event":"trace",)" + line.substr(1);
-  for (auto& [client, subscriber] : subscribers_) {
-    if (subscriber.ports.empty() || std::find(subscriber.ports.begin(), subscriber.ports.end(),
-                                              port) != subscriber.ports.end()) {
-      subscriber.session->send(event);
-    }
-  }
+void Emulator::subscribe_trace(const control::Connection& connection,
+                               std::vector<std::string> ports) {
+  trace_->subscribe(connection, std::move(ports));
 }
 
-void Emulator::subscribe_trace(std::uint64_t client, std::vector<std::string> ports) {
-  // Only ever called while that client's request is handled.
-  if (current_session_ != nullptr && current_session_->id() == client) {
-    subscribers_[client] = {current_session_, std::move(ports)};
-  }
-}
-
-void Emulator::unsubscribe_trace(std::uint64_t client) {
-  subscribers_.erase(client);
+void Emulator::unsubscribe_trace(std::uint64_t connection) {
+  trace_->unsubscribe(connection);
 }
 
 void Emulator::schedule_in(sim::SimDuration delay, std::function<void()> action) {
@@ -279,12 +183,6 @@ void Emulator::schedule_physics_catch_up() {
 
 void Emulator::warn(const std::string& message) {
   log(LogLevel::Warn, message);
-}
-
-std::filesystem::path default_control_path() {
-  const char* runtime = std::getenv("XDG_RUNTIME_DIR");
-  const std::filesystem::path dir = runtime != nullptr && *runtime != '\0' ? runtime : "/tmp";
-  return dir / ("dxlemu-" + std::to_string(::getpid()) + ".sock");
 }
 
 std::vector<std::string> Emulator::port_names() const {
@@ -312,16 +210,7 @@ nlohmann::json Emulator::port_info(std::string_view port) const {
       if (p->config.link) {
         info["link"] = p->config.link->string();
       }
-      info["adapter"] = {{"latency_ms", 0}};
-      if (p->adapter) {
-        const bus::UsbAdapter& usb = p->adapter->adapter();
-        info["adapter"] = {
-            {"latency_ms",
-             std::chrono::duration_cast<std::chrono::milliseconds>(usb.latency).count()},
-            {"chip", p->adapter_chip},
-            {"packet_data_bytes", usb.packet_data},
-            {"unread_drops", p->adapter->unread_drops()}};
-      }
+      info["adapter"] = p->links->adapter_info();
       return info;
     }
   }
@@ -346,76 +235,12 @@ void Emulator::request_shutdown() {
   boost::asio::post(io_, [this] { io_.stop(); });
 }
 
-void Emulator::restore(const BusState& state) {
-  for (const auto& port : ports_) {
-    const auto it = state.find(port->config.name);
-    const auto& servos = port->bus->servos();
-    for (std::size_t i = 0; i < servos.size(); ++i) {
-      model::Servo& servo = *servos[i];
-      if (it != state.end() && i < it->second.size()) {
-        const ServoState& saved = it->second[i];
-        if (saved.model == servo.spec().name) {
-          restore_state(servo.table(), saved, options_.state->string(),
-                        "/ports/" + port->config.name + "/" + std::to_string(i));
-        } else {
-          log(LogLevel::Warn, options_.state->string() + ": " + port->config.name + " servo " +
-                                  std::to_string(i) + " was a " + saved.model + ", now a " +
-                                  servo.spec().name + ": it starts from its config");
-        }
-      }
-      servo.commit_deferred();  // the ID, baud and protocol of the config and the state apply
-    }
-  }
-  save_state_if_changed();
-}
-
 void Emulator::finish_handler() {
   // Once per handler rather than per line: a round trip writes two trace lines, and a reader
   // (tail -f) still sees each packet as soon as the daemon is done with it.
-  if (trace_.is_open()) {
-    trace_.flush();
-  }
-  save_state_if_changed();
+  trace_->flush();
+  state_->save_if_changed();
   cpu_wait_.mark();  // the thread goes back to waiting for the next handler
-}
-
-void Emulator::save_state_if_changed() {
-  if (!options_.state) {
-    return;
-  }
-  // Called on every PTY read: while no EEPROM byte has changed since the last look, there is
-  // nothing to compare.
-  std::uint64_t changes = 0;
-  for (const auto& port : ports_) {
-    for (const auto& servo : port->bus->servos()) {
-      changes += servo->table().eeprom_changes();
-    }
-  }
-  if (checked_eeprom_changes_ == changes) {
-    return;
-  }
-  // A byte may have changed and changed back: the images decide, as they always did.
-  std::vector<std::vector<std::uint8_t>> images;
-  for (const auto& port : ports_) {
-    for (const auto& servo : port->bus->servos()) {
-      images.push_back(eeprom_image(servo->table()));
-    }
-  }
-  if (images == saved_eeprom_) {  // empty at first: the first call always writes
-    checked_eeprom_changes_ = changes;
-    return;
-  }
-  BusState state;
-  for (const auto& port : ports_) {
-    auto& list = state[port->config.name];
-    for (const auto& servo : port->bus->servos()) {
-      list.push_back(capture_state(servo->table()));
-    }
-  }
-  io::write_file_atomically(*options_.state, state_to_text(state));
-  saved_eeprom_ = std::move(images);
-  checked_eeprom_changes_ = changes;
-  log(LogLevel::Debug, "saved the EEPROM of every servo to " + options_.state->string());
 }
 
 void Emulator::run(std::ostream& out) {
@@ -442,7 +267,7 @@ void Emulator::run(std::ostream& out) {
       // Saved before rearm(), which delivers replies due now (every reply under fast and manual
       // timing): an EEPROM write is in the state file before its status reaches the client, so
       // a kill -9 after the acknowledgement cannot lose it.
-      save_state_if_changed();
+      state_->save_if_changed();
       driver_.rearm();
       finish_handler();  // the trace lines of the request and of a reply sent at once
     });
@@ -473,18 +298,11 @@ void Emulator::run(std::ostream& out) {
   finish_handler();
   for (const auto& port : ports_) {
     const bus::BusStats& s = port->bus->stats();
-    std::string late;
-    if (port->guard) {
-      const bus::LatenessSummary l = port->guard->summary();
-      late = ", " + std::to_string(l.over[0]) + " replies more than " +
-             std::to_string(bus::LatenessSummary::kThresholds[0].count()) + " ms late (at most " +
-             std::to_string(std::chrono::duration_cast<std::chrono::microseconds>(l.max).count()) +
-             " us), " + std::to_string(l.dropped) + " dropped as late";
-    }
     log(LogLevel::Info, port->config.name + ": " + std::to_string(s.frames) + " packets, " +
                             std::to_string(s.replies) + " replies, " +
                             std::to_string(s.bad_checks) + " bad checks, " +
-                            std::to_string(s.collisions) + " collisions" + late);
+                            std::to_string(s.collisions) + " collisions" +
+                            port->links->lateness_summary());
   }
 }
 

@@ -547,13 +547,15 @@ TEST_CASE("A bad fault rule is refused naming the member, and nothing is added",
 TEST_CASE("trace.subscribe registers the connection for one port or all, trace.unsubscribe ends it",
           "[control]") {
   Rig rig;
-  CHECK(rig.api.handle(R"({"id":1,"cmd":"trace.subscribe","port":"dxl1"})", 5) ==
+  const control::Connection five{5, [](const std::string& /*line*/) {}};
+  const control::Connection six{6, [](const std::string& /*line*/) {}};
+  CHECK(rig.api.handle(R"({"id":1,"cmd":"trace.subscribe","port":"dxl1"})", &five) ==
         R"({"id":1,"ok":true,"result":{"ports":["dxl1"]}})");
   CHECK(rig.target.subscriptions.at(5) == std::vector<std::string>{"dxl1"});
-  CHECK(rig.api.handle(R"({"id":2,"cmd":"trace.subscribe"})", 6) ==
+  CHECK(rig.api.handle(R"({"id":2,"cmd":"trace.subscribe"})", &six) ==
         R"({"id":2,"ok":true,"result":{"ports":["dxl0","dxl1"]}})");
   CHECK(rig.target.subscriptions.at(6).empty());
-  CHECK(rig.api.handle(R"({"id":3,"cmd":"trace.unsubscribe"})", 5) ==
+  CHECK(rig.api.handle(R"({"id":3,"cmd":"trace.unsubscribe"})", &five) ==
         R"({"id":3,"ok":true,"result":{}})");
   CHECK(rig.target.subscriptions.count(5) == 0);
   // Without a connection there is nowhere to send events.

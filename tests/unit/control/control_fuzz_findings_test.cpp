@@ -23,8 +23,9 @@ class EmptyTarget : public control::Target {
   bool manual_clock() const override { return true; }
   void step_clock(sim::SimDuration /*d*/) override {}
   faults::Injector& faults() override { return injector_; }
-  void subscribe_trace(std::uint64_t /*client*/, std::vector<std::string> /*ports*/) override {}
-  void unsubscribe_trace(std::uint64_t /*client*/) override {}
+  void subscribe_trace(const control::Connection& /*connection*/,
+                       std::vector<std::string> /*ports*/) override {}
+  void unsubscribe_trace(std::uint64_t /*connection*/) override {}
   void schedule_in(sim::SimDuration /*delay*/, std::function<void()> /*action*/) override {}
   void warn(const std::string& /*message*/) override {}
   void request_shutdown() override {}

@@ -1,0 +1,12 @@
+#pragma once
+
+#include "app/cli/command_line.hpp"
+
+namespace dxlemu::app {
+
+/// `dxlemu robots`: one line per robot profile (shipped and --robots), by name, with its ports,
+/// servos, whether a physics file of that name ships, its title and first source
+/// (docs/robots.md). None is not an error: stderr says so.
+void list_robots(const CommandLine& line);
+
+}  // namespace dxlemu::app
