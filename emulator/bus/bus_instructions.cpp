@@ -53,7 +53,7 @@ void Bus::single(const Packet& packet) {
   std::vector<Slot> slots;
   for (Reply& r : replies) {
     const bool new_slot =
-        slots.empty() || (broadcast && instruction.protocol == wire::Protocol::V2 &&
+        slots.empty() || (broadcast && wire::traits(instruction.protocol).chained_broadcast_ping &&
                           slots.back().front().station->servo->id() != r.station->servo->id());
     if (new_slot) {
       slots.emplace_back();
@@ -148,12 +148,13 @@ void Bus::fast_read(const Packet& packet, const std::vector<ReadSlot>& slots,
   }
   std::vector<std::uint8_t> bytes = collide(packets);
   const std::size_t sent_size = bytes.size();
+  const wire::Protocol protocol = packet.heard.protocol;  // only 2.0 has Fast replies
   const faults::ReplyEffects effects =
-      faults_.reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
+      faults_.reply(packet.heard, std::move(ids), bytes, protocol, scheduler_.now());
   const SimTime start = packet.heard.end + turnaround(first) + effects.delay;
   const std::uint32_t bps = first.station->servo->baud_bps();
   const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(), bps);
-  send_at(std::move(bytes), delivered, bps, wire::Protocol::V2, std::move(settlements));
+  send_at(std::move(bytes), delivered, bps, protocol, std::move(settlements));
 }
 
 void Bus::group_write(const Packet& packet) {

@@ -16,7 +16,7 @@ namespace dxlemu::faults {
 
 /// What the bus knows about the packet it is handling, as the fault hooks need it.
 struct HeardPacket {
-  wire::Protocol protocol = wire::Protocol::V2;
+  wire::Protocol protocol = wire::kDefaultProtocol;
   std::uint8_t id = 0;           ///< the packet ID (unverified for a damaged packet)
   std::uint8_t instruction = 0;  ///< the instruction byte (unverified for a damaged packet)
   /// The decoded instruction; nullptr when the packet is damaged or could not be decoded.
