@@ -156,7 +156,9 @@ bool Servo::supports_v1_bulk_read() const {
 
 ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   ServoResponse r;
-  r.reply = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
+  const bool answers =
+      wire::traits(protocol_.value_or(wire::kDefaultProtocol)).status.answers_bad_check;
+  r.reply = answers && replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   r.processing = write_time(0);
   r.error = status_error(wire::Outcome::BadCheck);
   return r;

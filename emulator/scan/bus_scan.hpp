@@ -27,7 +27,7 @@ struct ScanOptions {
   std::vector<wire::Protocol> protocols = wire::all_protocols();
   /// The IDs a 1.0 or FEETECH sweep pings (2.0 finds every ID with one broadcast Ping).
   std::uint8_t first_id = 0;
-  std::uint8_t last_id = wire::kMaxIdFeetech;
+  std::uint8_t last_id = wire::highest_unicast_id();
   /// How long to wait for a reply.
   std::chrono::microseconds timeout{std::chrono::milliseconds(34)};
 };

@@ -409,6 +409,15 @@ constexpr int highest_protocol_number() {
   return out;
 }
 
+/// The highest unicast ID any protocol has (253): the widest range an ID setting may take.
+constexpr std::uint8_t highest_unicast_id() {
+  std::uint8_t out = 0;
+  for (const ProtocolTraits& row : kProtocolTable) {
+    out = row.max_unicast_id > out ? row.max_unicast_id : out;
+  }
+  return out;
+}
+
 /// The info of instruction byte `code` in `protocol`; nullptr when the protocol names none.
 constexpr const InstructionInfo* instruction_info(Protocol protocol, std::uint8_t code) {
   for (const InstructionInfo& info : traits(protocol).instructions) {

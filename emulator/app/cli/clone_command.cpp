@@ -19,14 +19,14 @@ std::pair<std::uint8_t, std::uint8_t> id_range(const std::string& text) {
     std::size_t used = 0;
     const int first = std::stoi(text.substr(0, dash), &used);
     const int last = dash == std::string::npos ? first : std::stoi(text.substr(dash + 1));
-    if (first >= 0 && last >= first && last <= wire::kMaxIdFeetech) {
+    if (first >= 0 && last >= first && last <= wire::highest_unicast_id()) {
       return {static_cast<std::uint8_t>(first), static_cast<std::uint8_t>(last)};
     }
   } catch (const std::logic_error&) {
     // a word where a number should be: refused below
   }
   throw std::invalid_argument("--ids " + text + ": expected FIRST-LAST within 0 ~ " +
-                              std::to_string(wire::kMaxIdFeetech));
+                              std::to_string(wire::highest_unicast_id()));
 }
 
 // The protocols --protocol spells (the CLI accepted only their spellings); empty: all.
