@@ -104,6 +104,17 @@ class CopiesAgree(unittest.TestCase):
         self.assertEqual(constants["V1_MIN_LENGTH"], self.table["1"]["min_length"])
         self.assertEqual(constants["V2_MIN_LENGTH"], self.table["2"]["min_length"])
 
+    def test_dissector_names_each_capture_protocol_byte_as_the_table_does(self) -> None:
+        text = (ROOT / "scripts" / "dxlemu.lua").read_text()
+        constants = lua_constants(text)
+        field = re.search(r'ProtoField\.uint8\("dxlemu\.protocol".*?\{(.*?)\}', text, re.S)
+        assert field, "no dxlemu.protocol field in the dissector"
+        names = {}
+        for key, name in re.findall(r"\[([A-Z0-9_x]+)\] = \"([^\"]*)\"", field.group(1)):
+            names[constants[key] if key in constants else int(key, 0)] = name
+        names.pop(0)  # "unknown": no protocol
+        self.assertEqual(names, {row["value"]: row["name"] for row in self.table.values()})
+
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)
