@@ -11,7 +11,12 @@ namespace dxlemu::bus {
 
 using sim::SimTime;
 
-Bus::Bus(sim::Scheduler& scheduler, ByteLink& link) : scheduler_(scheduler), link_(link) {}
+Bus::Bus(sim::Scheduler& scheduler, ByteLink& link) : scheduler_(scheduler), link_(link) {
+  framers_.reserve(wire::kProtocolCount);
+  for (const wire::ProtocolTraits& row : wire::kProtocolTable) {
+    framers_.emplace_back(row.protocol);
+  }
+}
 
 Bus::~Bus() = default;
 
@@ -94,15 +99,15 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
   // collision rule depends on it): by position in this write, negative when the bytes came in an
   // earlier one.
   std::vector<std::pair<std::int64_t, wire::FramerEvent>> heard;
-  for (wire::Framer* framer : {&v1_framer_, &v2_framer_, &feetech_framer_}) {
-    const wire::Protocol protocol = framer->format().protocol;
+  for (wire::Framer& framer : framers_) {
+    const wire::Protocol protocol = framer.format().protocol;
     if (std::none_of(nodes_.begin(), nodes_.end(),
                      [&](const auto& s) { return s->servo->protocol() == protocol; })) {
       continue;
     }
-    const auto base = static_cast<std::int64_t>(framer->fed());
+    const auto base = static_cast<std::int64_t>(framer.fed());
     std::vector<wire::FramerEvent> events;
-    framer->feed(bytes, times, events);
+    framer.feed(bytes, times, events);
     for (auto& event : events) {
       heard.emplace_back(static_cast<std::int64_t>(wire::offset_of(event)) - base,
                          std::move(event));
@@ -141,8 +146,8 @@ void Bus::schedule_expiry() {
     expiry_.reset();
   }
   std::optional<SimTime> deadline;
-  for (const wire::Framer* f : {&v1_framer_, &v2_framer_, &feetech_framer_}) {
-    if (const auto d = f->deadline(); d && (!deadline || *d < *deadline)) {
+  for (const wire::Framer& f : framers_) {
+    if (const auto d = f.deadline(); d && (!deadline || *d < *deadline)) {
       deadline = d;
     }
   }
@@ -152,9 +157,9 @@ void Bus::schedule_expiry() {
   expiry_ = scheduler_.schedule_at(*deadline, [this] {
     expiry_.reset();
     std::vector<wire::FramerEvent> events;
-    v1_framer_.expire(scheduler_.now(), events);
-    v2_framer_.expire(scheduler_.now(), events);
-    feetech_framer_.expire(scheduler_.now(), events);
+    for (wire::Framer& framer : framers_) {
+      framer.expire(scheduler_.now(), events);
+    }
     // A packet found only when the partial one before it timed out is acted on now: its reply
     // is modelled from the expiry, not from when its bytes came (which would make it late by
     // the whole timeout).

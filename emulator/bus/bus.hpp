@@ -184,10 +184,10 @@ class Bus {
   ByteLink& link_;
   std::vector<std::unique_ptr<model::Servo>> servos_;
   std::vector<std::unique_ptr<Node>> nodes_;
-  wire::Framer v1_framer_{wire::Protocol::V1};
-  wire::Framer v2_framer_{wire::Protocol::V2};
-  /// FEETECH's frame is the 1.0 frame; its own framer names the packets FEETECH's.
-  wire::Framer feetech_framer_{wire::Protocol::Feetech};
+  /// One framer per row of the protocol table, in its order (FEETECH's frame is the 1.0 frame;
+  /// its own framer names the packets FEETECH's). Each hears the line only while a servo speaks
+  /// its protocol.
+  std::vector<wire::Framer> framers_;
   std::vector<std::shared_ptr<Outgoing>> outgoing_;  // replies scheduled and not yet delivered
   /// The modelled time of the last delivery: a later one is never stamped before it, even when
   /// its own modelled time had passed before it could be scheduled.

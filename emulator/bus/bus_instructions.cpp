@@ -53,7 +53,7 @@ void Bus::single(const Packet& packet) {
   std::vector<ReplyGroup> groups;
   for (Reply& r : replies) {
     const bool new_group =
-        groups.empty() || (broadcast && instruction.protocol == wire::Protocol::V2 &&
+        groups.empty() || (broadcast && wire::traits(instruction.protocol).chained_broadcast_ping &&
                            groups.back().front().node->servo->id() != r.node->servo->id());
     if (new_group) {
       groups.emplace_back();
@@ -148,15 +148,15 @@ void Bus::fast_read(const Packet& packet, const std::vector<ReadPart>& parts,
   }
   std::vector<std::uint8_t> bytes = collide(packets);
   const std::size_t sent_size = bytes.size();
+  const wire::Protocol protocol = packet.heard.protocol;  // only 2.0 has Fast replies
   ReplyEffects effects;
   if (faulty()) {
-    effects =
-        faults_->reply(packet.heard, std::move(ids), bytes, wire::Protocol::V2, scheduler_.now());
+    effects = faults_->reply(packet.heard, std::move(ids), bytes, protocol, scheduler_.now());
   }
   const SimTime start = packet.heard.end + turnaround(first) + effects.delay;
   const std::uint32_t bps = first.node->servo->baud_bps();
   const SimTime delivered = start + line_time(effects.dropped ? sent_size : bytes.size(), bps);
-  send_at(std::move(bytes), delivered, bps, wire::Protocol::V2, std::move(settlements));
+  send_at(std::move(bytes), delivered, bps, protocol, std::move(settlements));
 }
 
 void Bus::group_write(const Packet& packet) {

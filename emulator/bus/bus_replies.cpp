@@ -42,7 +42,7 @@ Bus::Reply Bus::reply_of(const Listener& listener, model::ServoResponse response
 }
 
 wire::Protocol Bus::status_protocol(const Node& node) {
-  return node.servo->protocol().value_or(wire::Protocol::V2);
+  return node.servo->protocol().value_or(wire::kDefaultProtocol);
 }
 
 std::vector<std::uint8_t> Bus::status_bytes(const Node& node,

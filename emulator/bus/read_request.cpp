@@ -23,7 +23,7 @@ ReadRequest read_request(const wire::InstructionPacket& packet) {
           }
         } else if constexpr (std::is_base_of_v<wire::BulkRead, T>) {
           out.fast = std::is_same_v<T, wire::FastBulkRead>;
-          out.v1_bulk = packet.protocol == wire::Protocol::V1;
+          out.v1_bulk = wire::traits(packet.protocol).bulk_read_needs_support;
           for (const wire::BulkReadTarget& t : ins.targets) {
             add({t.id, t.address, t.length});
           }
@@ -34,20 +34,9 @@ ReadRequest read_request(const wire::InstructionPacket& packet) {
 }
 
 bool is_group_instruction(wire::Protocol protocol, std::uint8_t code) {
-  using wire::InstructionCode;
-  if (protocol == wire::Protocol::Feetech) {
-    using wire::FeetechInstructionCode;
-    return code == wire::to_byte(FeetechInstructionCode::SyncRead) ||
-           code == wire::to_byte(FeetechInstructionCode::SyncWrite);
-  }
-  for (const auto group :
-       {InstructionCode::SyncRead, InstructionCode::SyncWrite, InstructionCode::FastSyncRead,
-        InstructionCode::BulkRead, InstructionCode::BulkWrite, InstructionCode::FastBulkRead}) {
-    if (code == wire::to_byte(group)) {
-      return true;
-    }
-  }
-  return false;
+  const wire::InstructionInfo* info = wire::instruction_info(protocol, code);
+  return info != nullptr && (info->role == wire::InstructionRole::GroupRead ||
+                             info->role == wire::InstructionRole::GroupWrite);
 }
 
 }  // namespace dxlemu::bus

@@ -29,7 +29,7 @@ struct PacketFacts {
   std::optional<std::pair<std::uint16_t, std::uint16_t>> span;
   sim::SimTime at{};  ///< when its last byte crossed the line
   /// The port's protocol: what the instruction byte means (DYNAMIXEL's and FEETECH's codes differ).
-  wire::Protocol protocol = wire::Protocol::V2;
+  wire::Protocol protocol = wire::kDefaultProtocol;
 };
 
 /// What happens to one servo's handling of a packet.

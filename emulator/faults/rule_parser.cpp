@@ -86,17 +86,15 @@ std::vector<std::pair<const json*, std::string>> one_or_many(const json& value,
   return out;
 }
 
-// Every instruction name a rule may match, DYNAMIXEL's then FEETECH's own, each once: the
-// names of every byte in either protocol but the 2.0 status marker.
+// Every instruction name a rule may match, each once, protocol by protocol in the table's order
+// (DYNAMIXEL's, then FEETECH's own): every instruction but a status marker.
 std::vector<std::string_view> known_instruction_names() {
   std::vector<std::string_view> names;
-  for (const wire::Protocol protocol : {wire::Protocol::V2, wire::Protocol::Feetech}) {
-    for (int code = 0; code <= 0xFF; ++code) {
-      const auto byte = static_cast<std::uint8_t>(code);
-      const std::string_view name = wire::instruction_name(protocol, byte);
-      if (name != "unknown" && code != wire::to_byte(wire::InstructionCode::Status) &&
-          std::find(names.begin(), names.end(), name) == names.end()) {
-        names.push_back(name);
+  for (const wire::ProtocolTraits& row : wire::kProtocolTable) {
+    for (const wire::InstructionInfo& info : row.instructions) {
+      if (info.role != wire::InstructionRole::Status &&
+          std::find(names.begin(), names.end(), info.name) == names.end()) {
+        names.push_back(info.name);
       }
     }
   }

@@ -99,9 +99,8 @@ void Servo::commit_deferred() {
   id_ = static_cast<std::uint8_t>(table_.get(items_.id));
   if (items_.protocol) {
     const std::int64_t v = table_.get(*items_.protocol);
-    protocol_ = v == 1   ? std::optional(wire::Protocol::V1)
-                : v == 2 ? std::optional(wire::Protocol::V2)
-                         : std::nullopt;  // S.BUS, iBUS, RC-PWM, Modbus: not a DYNAMIXEL bus
+    // Another value (S.BUS, iBUS, RC-PWM, Modbus) is no protocol of the emulated bus.
+    protocol_ = wire::protocol_from_number(v);
   } else {
     protocol_ = spec().protocols.front();
   }
@@ -118,34 +117,30 @@ void Servo::commit_deferred() {
   return_delay_ = microseconds(delay * spec().return_delay_unit_us);
 }
 
-std::uint8_t Servo::error_byte_v2(wire::StatusError error) const {
+std::uint8_t Servo::status_error(wire::Outcome outcome) const {
+  // The protocol's status vocabulary (wire/protocol_table.hpp) turns the outcome into its error
+  // byte; what the device adds to every status is its standing faults: 2.0's alert bit while
+  // Hardware Error Status is not 0, 1.0's hardware error bits (Input Voltage, Overheating,
+  // Overload: protocol1.md "Status Packet"), FEETECH's live Servo status, and the bits a FEETECH
+  // model file names for its refusals.
   const auto& hw = items_.hardware_error_status;
-  return wire::status_error_byte(error, hw && table_.get(*hw) != 0);
-}
-
-std::uint8_t Servo::v1_error(std::uint8_t bits) const {
-  // Protocol 1.0: the hardware error bits (Input Voltage, Overheating, Overload) are in the
-  // error byte of every status while they last (protocol1.md "Status Packet").
-  return bits | motion_.v1_error_bits();
+  const RefusalBits refusals = spec().refusals();
+  wire::DeviceFaults device;
+  device.alert = hw && table_.get(*hw) != 0;
+  device.status_bits = motion_.v1_error_bits();
+  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Range)] = refusals.range;
+  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Instruction)] =
+      refusals.instruction;
+  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Checksum)] = refusals.checksum;
+  return wire::status_error_byte(protocol_.value_or(wire::kDefaultProtocol), outcome, device);
 }
 
 std::uint8_t Servo::error_byte(TableError error) const {
-  if (protocol_ == wire::Protocol::V1) {
-    return v1_error(v1_error_bits(error));
-  }
-  if (protocol_ == wire::Protocol::Feetech) {
-    // FEETECH's bits are the live Servo status; a refusal adds its model-file bit, if any.
-    return v1_error(error == TableError::None ? 0 : spec().refusals().range);
-  }
-  return error_byte_v2(v2_status_error(error));
+  return status_error(outcome_of(error));
 }
 
 std::uint8_t Servo::instruction_error() const {
-  if (protocol_ == wire::Protocol::Feetech) {
-    return v1_error(spec().refusals().instruction);
-  }
-  return protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kInstruction)
-                                         : error_byte_v2(wire::StatusError::Instruction);
+  return status_error(wire::Outcome::UnknownInstruction);
 }
 
 bool Servo::supports_fast_read() const {
@@ -159,14 +154,11 @@ bool Servo::supports_v1_bulk_read() const {
 
 ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   ServoResponse r;
-  r.replies = replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
+  const bool answers =
+      wire::traits(protocol_.value_or(wire::kDefaultProtocol)).status.answers_bad_check;
+  r.replies = answers && replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   r.processing = write_time(0);
-  if (protocol_ == wire::Protocol::Feetech) {
-    r.error = v1_error(spec().refusals().checksum);
-  } else {
-    r.error = protocol_ == wire::Protocol::V1 ? v1_error(wire::v1_error::kChecksum)
-                                              : error_byte_v2(wire::StatusError::Crc);
-  }
+  r.error = status_error(wire::Outcome::BadCheck);
   return r;
 }
 
@@ -214,7 +206,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           ping.replies = true;
           ping.error = error_byte(TableError::None);
           ping.processing = microseconds(timing.ping_us);
-          if (packet.protocol == wire::Protocol::V2) {
+          if (wire::traits(packet.protocol).ping_reports_model) {
             ping.params = {static_cast<std::uint8_t>(spec().model_number & 0xFF),
                            static_cast<std::uint8_t>(spec().model_number >> 8),
                            spec().firmware_version};
@@ -340,19 +332,9 @@ ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) cons
   const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
   r.replies = !broadcast && replies_to(is_read);
   r.processing = write_time(0);
-  if (protocol_ == wire::Protocol::Feetech) {
-    const RefusalBits bits = spec().refusals();
-    r.error =
-        v1_error(error.kind == wire::DecodeErrorKind::BadValue ? bits.range : bits.instruction);
-  } else if (protocol_ == wire::Protocol::V1) {
-    r.error =
-        v1_error(error.kind == wire::DecodeErrorKind::BadValue ? wire::v1_error::kRange
-                                                               : wire::v1_error::kInstruction);
-  } else {
-    r.error = error_byte_v2(error.kind == wire::DecodeErrorKind::BadValue
-                                ? wire::StatusError::DataRange
-                                : wire::StatusError::DataLength);
-  }
+  r.error =
+      status_error(error.kind == wire::DecodeErrorKind::BadValue ? wire::Outcome::DataRange
+                                                                 : wire::Outcome::BadParameters);
   return r;
 }
 
@@ -383,7 +365,8 @@ ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
   ServoResponse r = from_table({}, write_time(0));
   // protocol1.md: "Broadcast ID(0xFE) cannot be used for Factory Reset instruction"; protocol2.md:
   // broadcast with option 0xFF is not executed (MX(2.0) and X from firmware 42).
-  if (broadcast && (protocol_ == wire::Protocol::V1 || option == wire::factory_reset::kResetAll)) {
+  const bool broadcast_refused = protocol_ && !wire::traits(*protocol_).broadcast_factory_reset;
+  if (broadcast && (broadcast_refused || option == wire::factory_reset::kResetAll)) {
     r.replies = false;
     return r;
   }
@@ -405,7 +388,7 @@ ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
 ServoResponse Servo::do_clear(const wire::Clear& clear) {
   ServoResponse r = from_table({}, write_time(0));
   if (clear.option != kClearMultiTurn) {
-    r.error = error_byte_v2(wire::StatusError::DataRange);  // reserved options
+    r.error = status_error(wire::Outcome::DataRange);  // reserved options
     return r;
   }
   // "The Clear instruction can only be executed when the DYNAMIXEL is stopped" (protocol2.md).
@@ -415,7 +398,7 @@ ServoResponse Servo::do_clear(const wire::Clear& clear) {
   const bool y_moving = !moving && status && spec().traits().moving_status_motion_and_range &&
                         (table_.get(*status) & kMovingStatusMoving) != 0;
   if ((moving && table_.get(*moving) != 0) || y_moving) {
-    r.error = error_byte_v2(wire::StatusError::ResultFail);
+    r.error = status_error(wire::Outcome::ResultFail);
     return r;
   }
   // Back to an absolute position within one rotation (0 ~ 4095 on X).
@@ -432,14 +415,14 @@ ServoResponse Servo::do_backup(const wire::ControlTableBackup& backup) {
     return r;
   }
   if (backup.option != kBackupStore && backup.option != kBackupRestore) {
-    r.error = error_byte_v2(wire::StatusError::DataRange);  // reserved options
+    r.error = status_error(wire::Outcome::DataRange);  // reserved options
     return r;
   }
   // "If Torque Enable is set to '1' (Torque On), a Status Packet with Result Fail will be
   // returned."
   if (table_.get("torque_enable") != 0 ||
       (backup.option == kBackupRestore && !backup_.has_value())) {
-    r.error = error_byte_v2(wire::StatusError::ResultFail);
+    r.error = status_error(wire::Outcome::ResultFail);
     return r;
   }
   if (backup.option == kBackupStore) {
@@ -485,7 +468,7 @@ void Servo::reboot() {
   // device switches to Protocol 2.0 when no RC signal is detected during booting. The emulator
   // has no RC input, so that is always the case.
   if (!protocol_) {
-    protocol_ = wire::Protocol::V2;
+    protocol_ = wire::kDefaultProtocol;
   }
   // The shaft and the winding do not reboot: the Present values are refreshed from them.
   motion_.after_reboot();

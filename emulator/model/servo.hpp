@@ -143,10 +143,9 @@ class Servo {
   bool defers(std::size_t item_index) const;
 
  private:
+  std::uint8_t status_error(wire::Outcome outcome) const;
   std::uint8_t error_byte(TableError error) const;
-  std::uint8_t error_byte_v2(wire::StatusError error) const;
   std::uint8_t instruction_error() const;
-  std::uint8_t v1_error(std::uint8_t bits) const;
   ServoResponse from_table(const TableResult& result, sim::SimDuration processing) const;
   ServoResponse do_factory_reset(std::uint8_t option, bool broadcast);
   ServoResponse execute_secondary(const wire::InstructionPacket& packet);

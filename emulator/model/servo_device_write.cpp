@@ -21,8 +21,8 @@ void Servo::device_write(std::size_t item_index, std::int64_t value) {
         return item.address >= block.data && item.address < block.data + block.count;
       });
   // The rules of the protocol the servo speaks decide only whether its hooks hear of the change.
-  const wire::Protocol protocol =
-      protocol_.value_or(spec().protocols.empty() ? wire::Protocol::V2 : spec().protocols.front());
+  const wire::Protocol protocol = protocol_.value_or(
+      spec().protocols.empty() ? wire::kDefaultProtocol : spec().protocols.front());
   if (!indirect_data && table_.check_write(item.address, bytes, protocol).ok()) {
     table_.bus_write(item.address, bytes, protocol);
   } else {

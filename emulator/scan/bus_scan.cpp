@@ -79,10 +79,10 @@ class Scanner {
         options_.bauds.empty() ? default_scan_bauds(library_) : options_.bauds;
     for (const std::uint32_t bps : bauds) {
       link_.set_baud(bps);
-      if (options_.v2) {
+      if (wants(wire::Protocol::V2)) {
         scan_v2(bps);
       }
-      if (options_.v1 || options_.feetech) {
+      if (wants(wire::Protocol::V1) || wants(wire::Protocol::Feetech)) {
         scan_v1(bps);
       }
     }
@@ -90,6 +90,11 @@ class Scanner {
   }
 
  private:
+  bool wants(wire::Protocol protocol) const {
+    return std::find(options_.protocols.begin(), options_.protocols.end(), protocol) !=
+           options_.protocols.end();
+  }
+
   void scan_v2(std::uint32_t bps) {
     // A broadcast Ping: every 2.0 servo answers, each in its turn (protocol2.md "Ping").
     const auto replies = link_.exchange({wire::Protocol::V2, wire::kBroadcastId, wire::Ping{}},
@@ -145,13 +150,13 @@ class Scanner {
     const std::vector<std::uint8_t>& b = head.front().params;
     servo.model_number = word(b[0], b[1]);
     servo.firmware = b[2];
-    if (options_.v1) {
+    if (wants(wire::Protocol::V1)) {
       servo.spec = identify(library_, servo.model_number, model::Maker::Robotis, servo.firmware);
       if (servo.spec) {
         return servo;
       }
     }
-    if (options_.feetech) {
+    if (wants(wire::Protocol::Feetech)) {
       const bool big = b[2] == kFeetechBigEndian;
       const std::uint16_t number = big ? word(b[4], b[3]) : word(b[3], b[4]);
       auto spec = identify(library_, number, model::Maker::Feetech, b[0]);

@@ -22,14 +22,12 @@ struct ScanOptions {
   /// The rates to try, in order; empty: every rate a model of the library offers, the common
   /// ones (1 Mbit/s, 57600, 115200) first.
   std::vector<std::uint32_t> bauds;
-  /// Protocol 2.0 (broadcast Ping), and the 1.0 framing of DYNAMIXEL 1.0 and FEETECH (a Ping of
-  /// every ID, then the model number tells the maker).
-  bool v2 = true;
-  bool v1 = true;
-  bool feetech = true;
+  /// The protocols to look for: Protocol 2.0 (broadcast Ping), and the 1.0 framing of DYNAMIXEL
+  /// 1.0 and FEETECH (a Ping of every ID, then the model number tells the maker). All by default.
+  std::vector<wire::Protocol> protocols = wire::all_protocols();
   /// The IDs a 1.0 or FEETECH sweep pings (2.0 finds every ID with one broadcast Ping).
   std::uint8_t first_id = 0;
-  std::uint8_t last_id = wire::kMaxIdFeetech;
+  std::uint8_t last_id = wire::highest_unicast_id();
   /// How long to wait for a reply.
   std::chrono::microseconds timeout{std::chrono::milliseconds(34)};
 };
@@ -37,7 +35,7 @@ struct ScanOptions {
 /// One servo a scan found and read.
 struct FoundServo {
   std::uint32_t bps = 0;
-  wire::Protocol protocol = wire::Protocol::V2;
+  wire::Protocol protocol = wire::kDefaultProtocol;
   std::uint8_t id = 0;
   std::uint16_t model_number = 0;
   std::uint8_t firmware = 0;

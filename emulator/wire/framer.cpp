@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "wire/checksum.hpp"
@@ -13,16 +14,6 @@ namespace {
 
 using sim::SimDuration;
 
-// protocol1.md / protocol2.md "Byte to Byte Time". FEETECH documents none; its frame is the 1.0
-// frame, so a FEETECH framer waits as long as a 1.0 servo (docs/wire.md "FEETECH").
-constexpr SimDuration kV1InterByteTimeout = std::chrono::milliseconds(100);
-constexpr SimDuration kV2InterByteTimeout = std::chrono::microseconds(1500);
-
-// A Protocol 2.0 LENGTH is 16 bits, but no ROBOTIS controller sends packets anywhere near that:
-// the DynamixelSDK's buffers hold 1 KiB. We accept packets up to 4 KiB on the wire (e.g. a Sync
-// Write of 4 bytes to all 253 IDs is 1.3 KiB) and call anything longer an impossible length.
-constexpr std::size_t kV2MaxPacketBytes = 4096;
-constexpr std::size_t kV2HeaderIdLengthBytes = 7;  // FF FF FD 00 ID LEN_L LEN_H
 constexpr std::uint8_t kV2HeaderThirdByte = 0xFD;  // read as a 1.0 ID by the 1.0 framer
 
 // Compaction threshold: resolved bytes are erased from the front of the buffer in batches.
@@ -31,23 +22,20 @@ constexpr std::size_t kCompactBytes = 4096;
 }  // namespace
 
 FrameFormat FrameFormat::for_protocol(Protocol protocol) {
+  const FrameShape& shape = traits(protocol).frame;
+  if (shape.delimiting != Delimiting::LengthField) {
+    // A frame ended by silence needs the line's character time: not this framer's input.
+    throw std::invalid_argument("Framer: " + std::string(traits(protocol).title) +
+                                " frames end at a silence; this framer reads LENGTH fields");
+  }
   FrameFormat f;
   f.protocol = protocol;
-  if (has_v1_layout(protocol)) {
-    f.header = {0xFF, 0xFF};
-    f.length_field_bytes = 1;
-    f.min_length = 2;  // instruction + checksum: "Length = number of Parameters + 2"
-    f.max_length = 0xFF;
-    f.check_bytes = 1;
-    f.inter_byte_timeout = kV1InterByteTimeout;
-  } else {
-    f.header = {0xFF, 0xFF, 0xFD, 0x00};
-    f.length_field_bytes = 2;
-    f.min_length = 3;  // instruction + CRC: "Length = the number of Parameters + 3"
-    f.max_length = kV2MaxPacketBytes - kV2HeaderIdLengthBytes;
-    f.check_bytes = 2;
-    f.inter_byte_timeout = kV2InterByteTimeout;
-  }
+  f.header.assign(shape.header.begin(), shape.header.begin() + shape.header_size);
+  f.length_field_bytes = shape.field_bytes;
+  f.min_length = shape.min_length;
+  f.max_length = shape.max_length;
+  f.check_bytes = shape.check == CheckKind::Sum8 ? 1 : 2;
+  f.inter_byte_timeout = shape.inter_byte_timeout;
   return f;
 }
 

@@ -19,19 +19,28 @@ std::pair<std::uint8_t, std::uint8_t> id_range(const std::string& text) {
     std::size_t used = 0;
     const int first = std::stoi(text.substr(0, dash), &used);
     const int last = dash == std::string::npos ? first : std::stoi(text.substr(dash + 1));
-    if (first >= 0 && last >= first && last <= wire::kMaxIdFeetech) {
+    if (first >= 0 && last >= first && last <= wire::highest_unicast_id()) {
       return {static_cast<std::uint8_t>(first), static_cast<std::uint8_t>(last)};
     }
   } catch (const std::logic_error&) {
     // a word where a number should be: refused below
   }
   throw std::invalid_argument("--ids " + text + ": expected FIRST-LAST within 0 ~ " +
-                              std::to_string(wire::kMaxIdFeetech));
+                              std::to_string(wire::highest_unicast_id()));
 }
 
-bool wants(const std::vector<std::string>& protocols, const char* name) {
-  return protocols.empty() ||
-         std::find(protocols.begin(), protocols.end(), name) != protocols.end();
+// The protocols --protocol spells (the CLI accepted only their spellings); empty: all.
+std::vector<wire::Protocol> protocols_of(const std::vector<std::string>& spellings) {
+  if (spellings.empty()) {
+    return wire::all_protocols();
+  }
+  std::vector<wire::Protocol> out;
+  for (const std::string& spelling : spellings) {
+    if (const auto protocol = wire::protocol_from_spelling(spelling)) {
+      out.push_back(*protocol);
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -40,9 +49,7 @@ void clone_bus(const CloneArguments& arguments, const ModelLibrary& library, std
                std::ostream& progress) {
   scan::ScanOptions options;
   options.bauds = arguments.bauds;
-  options.v1 = wants(arguments.protocols, "1");
-  options.v2 = wants(arguments.protocols, "2");
-  options.feetech = wants(arguments.protocols, "feetech");
+  options.protocols = protocols_of(arguments.protocols);
   std::tie(options.first_id, options.last_id) = id_range(arguments.ids);
   options.timeout = std::chrono::milliseconds(arguments.timeout_ms);
 

@@ -50,7 +50,7 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
   models
       ->add_option("--protocol", filters.protocol,
                    "Only the models that can speak this protocol: 1, 2 (DYNAMIXEL) or feetech")
-      ->check(CLI::IsMember({"1", "2", "feetech"}));
+      ->check(CLI::IsMember(wire::protocol_spellings()));
   models->add_option("--name", filters.name,
                      "Only the models whose name or title contains TEXT, ignoring case");
   models->footer(
@@ -121,7 +121,7 @@ CLI::App* add_clone(CLI::App& app, CommandLine& line) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--protocol", clone.protocols,
                   "Only this protocol: 1, 2 or feetech (repeatable; default: all)")
-      ->check(CLI::IsMember({"1", "2", "feetech"}));
+      ->check(CLI::IsMember(wire::protocol_spellings()));
   cmd->add_option("--ids", clone.ids,
                   "The IDs the Protocol 1.0 and FEETECH sweep pings, FIRST-LAST (2.0 finds "
                   "every ID with one broadcast Ping)")
@@ -314,9 +314,7 @@ ModelFilter model_filter(const ModelsArguments& models) {
     }
   }
   if (models.protocol) {
-    filter.protocol = *models.protocol == "1"   ? wire::Protocol::V1
-                      : *models.protocol == "2" ? wire::Protocol::V2
-                                                : wire::Protocol::Feetech;
+    filter.protocol = wire::protocol_from_spelling(*models.protocol);
   }
   filter.name_fragment = models.name;
   return filter;

@@ -263,7 +263,9 @@ class ConfigParser {
       }
     }
     if (value.contains("protocol")) {
-      const auto protocol = integer(value["protocol"], at + "/protocol", 1, 2);
+      const auto protocol =
+          integer(value["protocol"], at + "/protocol", wire::lowest_protocol_number(),
+                  wire::highest_protocol_number());
       try {
         if (auto item = protocol_item(*spec, static_cast<int>(protocol))) {
           items.push_back(std::move(*item));
@@ -398,18 +400,15 @@ std::optional<std::size_t> other_maker_servo(const PortConfig& port, const Model
 std::string other_maker_reason(const PortConfig& port, std::size_t index,
                                const ModelLibrary& library) {
   const auto spec = library.find(port.servos.at(index).model);
-  std::string first;
+  std::shared_ptr<const model::ModelSpec> first;
   for (const ServoConfig& servo : port.servos) {
     if (const auto s = library.find(servo.model); s && s->maker() != spec->maker()) {
-      first = s->name;
+      first = s;
       break;
     }
   }
   return spec->name + " is a " + std::string(model::maker_name(spec->maker())) + " model, but " +
-         first + " on the same port is " +
-         std::string(model::maker_name(spec->maker() == model::Maker::Feetech
-                                           ? model::Maker::Robotis
-                                           : model::Maker::Feetech)) +
+         first->name + " on the same port is " + std::string(model::maker_name(first->maker())) +
          ": a port speaks one maker's protocol (put them on separate ports)";
 }
 

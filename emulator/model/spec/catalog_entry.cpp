@@ -44,13 +44,7 @@ std::string protocols_text(const std::vector<wire::Protocol>& protocols) {
   std::string out = "[";
   for (const wire::Protocol p : protocols) {
     out += out.size() == 1 ? "" : ", ";
-    if (p == wire::Protocol::Feetech) {
-      out += '"';
-      out += wire::protocol_name(p);
-      out += '"';
-    } else {
-      out += std::to_string(wire::protocol_number(p));
-    }
+    out += wire::protocol_json_text(p);
   }
   return out + "]";
 }

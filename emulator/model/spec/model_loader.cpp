@@ -342,7 +342,8 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   spec.firmware_version = static_cast<std::uint8_t>(root.at("firmware_version").integer(0, kU8));
   spec.family = read_family(root.at("family"));
   spec.protocols = read_protocols(root.at("protocols"), spec.family);
-  spec.default_id = static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::kMaxIdV1));
+  spec.default_id =
+      static_cast<std::uint8_t>(root.at("default_id").integer(0, wire::highest_unicast_id()));
 
   const JsonNode bauds = root.at("baud_rates");
   for (std::size_t i = 0, n = bauds.array_size(); i < n; ++i) {

@@ -7,13 +7,20 @@ namespace dxlemu::model {
 namespace {
 
 wire::Protocol read_protocol(const JsonNode& n) {
+  // A protocol with a number is written as that number, the others by their spelling.
   if (n.is_string()) {
-    if (n.string() == wire::protocol_name(wire::Protocol::Feetech)) {
-      return wire::Protocol::Feetech;
+    const auto p = wire::protocol_from_spelling(n.string());
+    if (!p || wire::protocol_number(*p) != 0) {
+      n.fail("unknown protocol \"" + n.string() + "\" (known: " + wire::protocol_json_list() + ")");
     }
-    n.fail("unknown protocol \"" + n.string() + "\" (known: 1, 2, \"feetech\")");
+    return *p;
   }
-  return static_cast<wire::Protocol>(n.integer(1, 2));
+  const auto p = wire::protocol_from_number(
+      n.integer(wire::lowest_protocol_number(), wire::highest_protocol_number()));
+  if (!p) {
+    n.fail("no protocol has this number (known: " + wire::protocol_json_list() + ")");
+  }
+  return *p;
 }
 
 }  // namespace
@@ -43,7 +50,7 @@ std::vector<wire::Protocol> read_protocols(const JsonNode& protocols, Family fam
   // family's rules (status bits, response levels) are one maker's.
   const Maker maker = traits_of(family).maker;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if ((out[i] == wire::Protocol::Feetech) != (maker == Maker::Feetech)) {
+    if (wire::traits(out[i]).maker != maker_name(maker)) {
       protocols.at(i).fail("a model of the " + std::string(maker_name(maker)) + " family \"" +
                            std::string(family_name(family)) + "\" cannot speak " +
                            std::string(wire::protocol_title(out[i])));

@@ -259,7 +259,7 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
   // such error; a partial write there changes the bytes it covers (docs/control-table.md).
   for (const Touched& t : touched) {
     const ItemSpec& item = spec_->items[t.item];
-    if (protocol == wire::Protocol::V2 && t.covered != item.size) {
+    if (wire::traits(protocol).whole_item_writes && t.covered != item.size) {
       return TableResult::fail(TableError::DataLength, "write covers " + std::to_string(t.covered) +
                                                            " of the " + std::to_string(item.size) +
                                                            " bytes of " + describe_item(item));

@@ -38,4 +38,24 @@ std::uint8_t v1_error_bits(TableError error) {
   return wire::v1_error::kRange;
 }
 
+wire::Outcome outcome_of(TableError error) {
+  switch (error) {
+    case TableError::None:
+      return wire::Outcome::Ok;
+    case TableError::Access:
+      return wire::Outcome::Access;
+    case TableError::DataLength:
+      return wire::Outcome::DataLength;
+    case TableError::DataRange:
+      return wire::Outcome::DataRange;
+    case TableError::DataLimit:
+      return wire::Outcome::DataLimit;
+    case TableError::AngleLimit:
+      return wire::Outcome::AngleLimit;
+    case TableError::ResultFail:
+      return wire::Outcome::ResultFail;
+  }
+  return wire::Outcome::ResultFail;
+}
+
 }  // namespace dxlemu::model

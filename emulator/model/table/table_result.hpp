@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "wire/protocol_table.hpp"
 #include "wire/status_error.hpp"
 
 namespace dxlemu::model {
@@ -27,6 +28,10 @@ wire::StatusError v2_status_error(TableError error);
 /// The Protocol 1.0 error bits for a refusal (protocol1.md "Error"). 1.0 has no access, length or
 /// limit errors: they are all the Range Error bit, except Angle Limit, which has its own bit.
 std::uint8_t v1_error_bits(TableError error);
+
+/// The protocol-neutral outcome of a refusal, which each protocol's status vocabulary turns into
+/// its error byte (wire/protocol_table.hpp).
+wire::Outcome outcome_of(TableError error);
 
 /// The outcome of a bus access: None, or an error and a sentence saying which rule refused it
 /// (for traces and the control API).

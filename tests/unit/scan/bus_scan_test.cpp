@@ -124,7 +124,7 @@ TEST_CASE("A scan tells FEETECH servos from DYNAMIXEL 1.0 by where their model n
   rig.add("feetech/scs0009", 2);  // big-endian table
   RigScanLink link(rig);
   scan::ScanOptions options = narrow({1'000'000});
-  options.v2 = false;
+  options.protocols = {wire::Protocol::V1, wire::Protocol::Feetech};
   const auto found = scan::scan_bus(link, library(), options, [](const std::string&) {});
   REQUIRE(found.size() == 2);
   REQUIRE(found[0].spec);
