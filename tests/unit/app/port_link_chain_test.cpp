@@ -55,7 +55,8 @@ TEST_CASE("Under realtime timing a reply later than the limit is dropped by the 
   rig.wall = sim::SimTime{} + 1ms;
   CHECK(chain.bus_side().deliver(kReply, sim::SimTime{}, kBps));
   rig.wall = sim::SimTime{} + 50ms;
-  CHECK(chain.bus_side().deliver(kReply, sim::SimTime{} + 10ms, kBps));  // dropped counts as delivered
+  CHECK(chain.bus_side().deliver(kReply, sim::SimTime{} + 10ms,
+                                 kBps));  // dropped counts as delivered
   CHECK(rig.client.deliveries().size() == 1);
   CHECK(chain.guard()->summary().dropped == 1);
   CHECK(chain.lateness_summary() ==
