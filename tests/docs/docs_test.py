@@ -279,5 +279,34 @@ class ReadmeRequirementsTest(unittest.TestCase):
                          "in README.md's Requirements, not installed by scripts/setup.sh")
 
 
+class ArchitectureNamesEverySourceFileTest(unittest.TestCase):
+    """docs/architecture.md is where a newcomer finds where things live: it names every source
+    file under emulator/ by its path there (`io/pty_link.*` names pty_link.hpp and .cpp), and
+    names no file that is gone."""
+
+    NAMED = re.compile(r"`((?:[a-z0-9_]+/)+[a-z0-9_]+)\.(\*|hpp|cpp)`")
+
+    def test_every_source_file_is_named_and_every_name_is_a_file(self):
+        emulator = os.path.join(ROOT, "emulator")
+        sources = set()
+        for folder, _, names in os.walk(emulator):
+            for name in names:
+                if name.endswith((".hpp", ".cpp")):
+                    sources.add(os.path.relpath(os.path.join(folder, name), emulator))
+        self.assertTrue(sources, f"no source files under {emulator}")
+        named = set()
+        for stem, ext in self.NAMED.findall(read(os.path.join(ROOT, "docs", "architecture.md"))):
+            found = {f"{stem}.{e}" for e in ("hpp", "cpp") if ext in ("*", e)} & sources
+            if stem.split("/")[0] in {"sim", "wire", "model", "physics", "bus", "faults",
+                                      "control", "io", "scan", "app"}:
+                self.assertTrue(found, f"docs/architecture.md names `{stem}.{ext}`, which is "
+                                       f"not a source file under emulator/")
+            named |= found
+        missing = sorted(sources - named)
+        self.assertEqual(missing, [], "docs/architecture.md does not name these files of "
+                                      "emulator/ (write `DIR/FILE.*` where its job is told): "
+                                      + ", ".join(missing))
+
+
 if __name__ == "__main__":
     unittest.main()
