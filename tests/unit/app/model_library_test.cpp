@@ -17,6 +17,7 @@
 #include "app/config/model_library.hpp"
 #include "app/config/robot_library.hpp"
 #include "model/spec/model_error.hpp"
+#include "temp_dir.hpp"
 
 using namespace dxlemu;
 
@@ -39,24 +40,9 @@ void write(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-// A directory under the system's temporary directory, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "dxlemu-library-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
+// A directory of model files for one test.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("dxlemu-library") {}
 };
 
 // The shipped catalog entry of `name` (models/catalog.json).

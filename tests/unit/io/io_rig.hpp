@@ -10,6 +10,8 @@
 #include <string>
 #include <system_error>
 
+#include "temp_dir.hpp"
+
 // What the tests of io/ share: a temporary directory, and running an io_context by hand until
 // something happened. The kernel moves PTY bytes on a worker of its own, so a test waits for
 // readiness rather than for time; the timeouts only end a broken test instead of hanging it.
@@ -18,25 +20,10 @@ namespace dxlemu::test {
 /// How long a test waits for the kernel at most before it fails (never reached when it passes).
 inline constexpr std::chrono::seconds kKernelTimeout{10};
 
-/// A directory under the system's temporary directory, removed with everything in it.
-class IoTempDir {
+/// A temporary directory for the sockets and links of a test.
+class IoTempDir : public TempDir {
  public:
-  IoTempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "dxlemu-io-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path_ = pattern;
-  }
-  ~IoTempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  IoTempDir(const IoTempDir&) = delete;
-  IoTempDir& operator=(const IoTempDir&) = delete;
-  /// The directory.
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
+  IoTempDir() : TempDir("dxlemu-io") {}
 };
 
 /// Runs `io`'s handlers one at a time, waiting for the next when none is ready, until `done()`
