@@ -33,14 +33,24 @@ constexpr int protocol_number(Protocol protocol) {
 /// The protocol as JSON writes it: its number, or its quoted spelling when it has none.
 inline std::string protocol_json_text(Protocol protocol) {
   const ProtocolTraits& row = traits(protocol);
-  return row.number != 0 ? std::to_string(row.number) : "\"" + std::string(row.spelling) + "\"";
+  if (row.number != 0) {
+    return std::to_string(row.number);
+  }
+  // Appended, not `"\"" + std::string(...)`: g++ 12 at -O3 warns (-Wrestrict) about its own
+  // inlined insert there.
+  std::string quoted(1, '"');
+  quoted.append(row.spelling).push_back('"');
+  return quoted;
 }
 
 /// Every protocol as JSON writes it, in table order, separated by ", ": `1, 2, "feetech"`.
 inline std::string protocol_json_list() {
   std::string out;
   for (const ProtocolTraits& row : kProtocolTable) {
-    out += (out.empty() ? "" : ", ") + protocol_json_text(row.protocol);
+    if (!out.empty()) {
+      out += ", ";
+    }
+    out += protocol_json_text(row.protocol);
   }
   return out;
 }
