@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "app/config/bus_config.hpp"
+#include "shipped_models.hpp"
 
 using namespace dxlemu;
 using app::ConfigError;
@@ -10,13 +11,8 @@ using app::parse_config;
 
 namespace {
 
-const app::ModelLibrary& library() {
-  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
-  return lib;
-}
-
 app::BusConfig parse(const std::string& text) {
-  return parse_config(text, "bus.json", library());
+  return parse_config(text, "bus.json", test::shipped_models());
 }
 
 // The message parse_config refuses `text` with.
@@ -78,16 +74,16 @@ TEST_CASE("A config names a firmware as the command line does, NAME@FIRMWARE", "
       one_port(R"({"model": "xl330-m288@52", "id": 1, "items": {"indirect_address_20": 132}})"));
   REQUIRE(config.ports[0].servos.size() == 1);
   CHECK(config.ports[0].servos[0].model == "xl330-m288@52");
-  const auto spec = library().find("xl330-m288@52");
+  const auto spec = test::shipped_models().find("xl330-m288@52");
   REQUIRE(spec != nullptr);
   CHECK(spec->firmware_version == 52);
   CHECK(spec->find("indirect_data_1")->address == 208);
   // The default firmware by its number is the model itself; the variants are listed by name.
-  CHECK(library().find("xl330-m288@53") == library().find("xl330-m288"));
-  const auto variants = library().variants_of("xl330-m288");
+  CHECK(test::shipped_models().find("xl330-m288@53") == test::shipped_models().find("xl330-m288"));
+  const auto variants = test::shipped_models().variants_of("xl330-m288");
   REQUIRE(variants.size() == 1);
   CHECK(variants[0]->name == "xl330-m288@52");
-  CHECK(library().variants_of("xm335-t323").empty());
+  CHECK(test::shipped_models().variants_of("xm335-t323").empty());
   // Indirect Address 21 exists only from V53.
   CHECK_THAT(config_refusal(one_port(
                  R"({"model": "xl330-m288@52", "id": 1, "items": {"indirect_address_21": 132}})")),
@@ -161,7 +157,7 @@ TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointe
 
 TEST_CASE("An unreadable config file is refused naming it", "[app][config]") {
   try {
-    app::read_config("/nonexistent/bus.json", library());
+    app::read_config("/nonexistent/bus.json", test::shipped_models());
     FAIL("accepted");
   } catch (const ConfigError& e) {
     CHECK(std::string(e.what()) == "/nonexistent/bus.json: /: cannot be read");
@@ -212,17 +208,19 @@ TEST_CASE("The library loads FEETECH's catalog, model numbers are one maker's",
           "[app][config][feetech]") {
   for (const std::string name : {"sts3215", "sts3250", "sm8512bl", "scs0009", "hls3625m"}) {
     INFO(name);
-    const auto spec = library().find(name);
+    const auto spec = test::shipped_models().find(name);
     REQUIRE(spec);
     CHECK(spec->protocols == std::vector{wire::Protocol::Feetech});
   }
-  CHECK(library().find(777, model::Maker::Feetech) == library().find("sts3215"));
-  CHECK(library().find(777, model::Maker::Robotis) == nullptr);
-  CHECK(library().find(1020, model::Maker::Robotis) == library().find("xm430-w350"));
-  CHECK(library().find(1020, model::Maker::Feetech) == nullptr);
+  CHECK(test::shipped_models().find(777, model::Maker::Feetech) ==
+        test::shipped_models().find("sts3215"));
+  CHECK(test::shipped_models().find(777, model::Maker::Robotis) == nullptr);
+  CHECK(test::shipped_models().find(1020, model::Maker::Robotis) ==
+        test::shipped_models().find("xm430-w350"));
+  CHECK(test::shipped_models().find(1020, model::Maker::Feetech) == nullptr);
   app::ModelFilter feetech;
   feetech.protocol = wire::Protocol::Feetech;
-  CHECK(library().select(feetech).size() == 5);
+  CHECK(test::shipped_models().select(feetech).size() == 5);
 }
 
 TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",

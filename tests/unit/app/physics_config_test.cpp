@@ -10,6 +10,7 @@
 #include "app/config/physics_config.hpp"
 #include "physics/mjcf_world.hpp"
 #include "physics/physics_fixtures.hpp"
+#include "shipped_models.hpp"
 
 using namespace dxlemu;
 using app::ConfigError;
@@ -17,11 +18,6 @@ using app::ConfigError;
 namespace {
 
 using test::kPendulum;
-
-const app::ModelLibrary& library() {
-  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
-  return lib;
-}
 
 // A config of port "arm" with XM430-W350 ID 1 and `physics` as its physics object.
 std::string with_physics(const std::string& physics) {
@@ -31,7 +27,7 @@ std::string with_physics(const std::string& physics) {
 
 std::string physics_refusal(const std::string& text) {
   try {
-    app::parse_config(text, "bus.json", library());
+    app::parse_config(text, "bus.json", test::shipped_models());
   } catch (const ConfigError& e) {
     return e.what();
   }
@@ -47,7 +43,7 @@ TEST_CASE("A physics object maps servos to joints with defaults for what it leav
   const auto config = app::parse_config(with_physics(R"({"mjcf": "p.xml", "joints": [
       {"port": "arm", "id": 1, "joint": "shoulder", "gear": 2.5, "direction": -1,
        "zero_offset_deg": 180}]})"),
-                                        "bus.json", library());
+                                        "bus.json", test::shipped_models());
   REQUIRE(config.physics);
   CHECK(config.physics->mjcf == "p.xml");
   CHECK_FALSE(config.physics->timestep_ms);
@@ -57,7 +53,7 @@ TEST_CASE("A physics object maps servos to joints with defaults for what it leav
   const auto plain = app::parse_config(
       with_physics(
           R"({"mjcf":"p.xml","timestep_ms":0.5,"joints":[{"port":"arm","id":1,"joint":"j"}]})"),
-      "bus.json", library());
+      "bus.json", test::shipped_models());
   CHECK(plain.physics->timestep_ms == 0.5);
   CHECK(plain.physics->joints[0] == app::JointConfig{"arm", 1, "j", 1, 1, 0});
 }
@@ -115,8 +111,8 @@ TEST_CASE("An MJCF that does not load or lacks a joint is refused when the world
 }
 
 TEST_CASE("The MJCF file of a config file is found beside it", "[app][config][physics]") {
-  const auto config =
-      app::read_config(std::string(DXLEMU_EXAMPLES_DIR) + "/physics/pendulum.json", library());
+  const auto config = app::read_config(std::string(DXLEMU_EXAMPLES_DIR) + "/physics/pendulum.json",
+                                       test::shipped_models());
   REQUIRE(config.physics);
   CHECK(config.physics->mjcf == std::filesystem::path(kPendulum));
   CHECK(config.physics->joints[0] == app::JointConfig{"arm", 1, "shoulder", 1, 1, 180});

@@ -56,9 +56,9 @@ std::string answer(std::string_view line, ControlSession& session) {
 }
 
 // A client of the socket at `path`: non-blocking, so reading takes what is there now.
-class Client {
+class SocketClient {
  public:
-  explicit Client(const fs::path& path)
+  explicit SocketClient(const fs::path& path)
       : fd_(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0)) {
     REQUIRE(fd_ >= 0);
     sockaddr_un address{};
@@ -67,9 +67,9 @@ class Client {
     // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the sockets API
     REQUIRE(::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
   }
-  ~Client() { close(); }
-  Client(const Client&) = delete;
-  Client& operator=(const Client&) = delete;
+  ~SocketClient() { close(); }
+  SocketClient(const SocketClient&) = delete;
+  SocketClient& operator=(const SocketClient&) = delete;
 
   void write(std::string_view bytes) const {
     REQUIRE(::write(fd_, bytes.data(), bytes.size()) == static_cast<ssize_t>(bytes.size()));
@@ -140,7 +140,7 @@ struct Rig {
 TEST_CASE("Each request line gets its reply, in order, however the lines are split",
           "[io][control_server]") {
   Rig rig;
-  Client client(rig.path());
+  SocketClient client(rig.path());
   client.write("one\ntw");
   settle(rig.io);
   CHECK(client.lines() == Lines{"ONE"});
@@ -154,7 +154,7 @@ TEST_CASE("Each request line gets its reply, in order, however the lines are spl
 TEST_CASE("An over-long request gets the oversize reply and the connection stays up",
           "[io][control_server]") {
   Rig rig(8);
-  Client client(rig.path());
+  SocketClient client(rig.path());
   client.write("12345678\n123456789\n");
   settle(rig.io);
   CHECK(client.lines() == Lines{"12345678", "too long: 8"});
@@ -179,7 +179,7 @@ TEST_CASE("An over-long request gets the oversize reply and the connection stays
 TEST_CASE("A handler that throws gets the internal error reply and the connection stays up",
           "[io][control_server]") {
   Rig rig;
-  Client client(rig.path());
+  SocketClient client(rig.path());
   client.write("throw\nafter\n");
   settle(rig.io);
   CHECK(client.lines() == Lines{"internal: boom", "AFTER"});
@@ -188,9 +188,9 @@ TEST_CASE("A handler that throws gets the internal error reply and the connectio
 TEST_CASE("Many clients at once each get their own replies", "[io][control_server]") {
   Rig rig;
   constexpr std::size_t kClients = 40;
-  std::vector<std::unique_ptr<Client>> clients;
+  std::vector<std::unique_ptr<SocketClient>> clients;
   for (std::size_t i = 0; i < kClients; ++i) {
-    clients.push_back(std::make_unique<Client>(rig.path()));
+    clients.push_back(std::make_unique<SocketClient>(rig.path()));
   }
   settle(rig.io);
   CHECK(rig.server->sessions() == kClients);
@@ -223,8 +223,8 @@ TEST_CASE("A client that disconnects mid-line is forgotten without affecting oth
     handled.emplace_back(line);
     return answer(line, session);
   });
-  Client leaving(rig.path());
-  Client staying(rig.path());
+  SocketClient leaving(rig.path());
+  SocketClient staying(rig.path());
   leaving.write("done\nhalf a li");
   staying.write("still ");
   settle(rig.io);
@@ -245,7 +245,7 @@ TEST_CASE("A client that stops sending gets the replies to its complete lines, t
     handled.emplace_back(line);
     return answer(line, session);
   });
-  Client client(rig.path());
+  SocketClient client(rig.path());
   client.write("a\n\n\r\nb\nunfinished");
   client.shutdown_sending();
   settle(rig.io);
@@ -266,7 +266,7 @@ TEST_CASE("A session sends events after its handler returned, and nothing once i
     CHECK(&session == subscriber);
     subscriber = nullptr;
   });
-  Client client(rig.path());
+  SocketClient client(rig.path());
   client.write("subscribe\n");
   settle(rig.io);
   REQUIRE(subscriber != nullptr);
@@ -287,7 +287,7 @@ TEST_CASE("A client that does not read is read no more, then disconnected",
     ++requests;
     return big;
   });
-  Client client(rig.path());
+  SocketClient client(rig.path());
   // Each request queues 256 KiB; above kPauseReadingAbove the server stops reading requests.
   constexpr std::size_t kRequests = 20;
   for (std::size_t i = 0; i < kRequests; ++i) {
@@ -314,7 +314,7 @@ TEST_CASE("A client that does not read is read no more, then disconnected",
     session = &s;
     return std::string();
   });
-  Client idle(events.path());
+  SocketClient idle(events.path());
   idle.write("subscribe\n");
   settle(events.io);
   REQUIRE(session != nullptr);
@@ -345,7 +345,7 @@ TEST_CASE("The socket file is the owner's, replaces a stale one and goes with th
     // session 1, gone at once.
     CHECK_THROWS_WITH(ControlServer(io, path, answer, replies()),
                       Catch::Contains(path.string()) && Catch::Contains("listening"));
-    Client client(path);
+    SocketClient client(path);
     settle(io);
     CHECK(closed == std::vector<std::uint64_t>{1});
     CHECK(server.sessions() == 1);
@@ -366,7 +366,7 @@ TEST_CASE("The socket file is the owner's, replaces a stale one and goes with th
   }
   {
     ControlServer server(io, path, answer, replies());
-    Client client(path);
+    SocketClient client(path);
     client.write("hi\n");
     settle(io);
     CHECK(client.lines() == Lines{"HI"});

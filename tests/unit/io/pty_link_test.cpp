@@ -42,14 +42,14 @@ std::vector<std::uint8_t> packet(std::size_t n) {
 }
 
 // The client: the slave side, opened by path, raw (PtyLink made it so).
-struct Client {
-  explicit Client(const std::string& path)
+struct PtyClient {
+  explicit PtyClient(const std::string& path)
       : fd(::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC)) {
     REQUIRE(fd >= 0);
   }
-  ~Client() { ::close(fd); }
-  Client(const Client&) = delete;
-  Client& operator=(const Client&) = delete;
+  ~PtyClient() { ::close(fd); }
+  PtyClient(const PtyClient&) = delete;
+  PtyClient& operator=(const PtyClient&) = delete;
 
   // Reads what is there now (nothing if nothing is).
   std::vector<std::uint8_t> read_now() const {
@@ -73,7 +73,7 @@ TEST_CASE("The client's bytes reach the callback with the client's baud rate", "
     got.insert(got.end(), bytes.begin(), bytes.end());
     bps = client_bps;
   });
-  Client client(link.slave_path());
+  PtyClient client(link.slave_path());
   termios t{};
   REQUIRE(tcgetattr(client.fd, &t) == 0);
   cfsetispeed(&t, B1000000);
@@ -90,7 +90,7 @@ TEST_CASE("The client's bytes reach the callback with the client's baud rate", "
 TEST_CASE("A packet goes out at once while the client reads", "[io][pty]") {
   boost::asio::io_context io;
   PtyLink link(io, std::nullopt);
-  Client client(link.slave_path());
+  PtyClient client(link.slave_path());
   CHECK(deliver(link, packet(1)));
   CHECK(link.queued_bytes() == 0);
   std::vector<std::uint8_t> got;
@@ -105,7 +105,7 @@ TEST_CASE("Packets for a client that does not read wait, up to the limit, then a
           "[io][pty]") {
   boost::asio::io_context io;
   PtyLink link(io, std::nullopt);
-  Client client(link.slave_path());
+  PtyClient client(link.slave_path());
 
   // Fill the PTY, then the queue. The io_context does not run meanwhile, so nothing of the
   // queue is written: what the queue holds depends only on the deliveries.

@@ -32,8 +32,8 @@ SimTime at(nanoseconds t) {
 }
 
 // A driver on a ManualTime, with what its events saw.
-struct Rig {
-  explicit Rig(Pace pace = Pace::WallClock) : driver(io, scheduler, pace, ManualClock(time)) {
+struct DriverRig {
+  explicit DriverRig(Pace pace = Pace::WallClock) : driver(io, scheduler, pace, ManualClock(time)) {
     driver.set_after_events([this] { ++after_events; });
   }
 
@@ -63,7 +63,7 @@ struct Rig {
 
 TEST_CASE("A future deadline arms the timer one wake lead early, and the rest is spun",
           "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   rig.event_at(milliseconds(1));
   rig.driver.rearm();
   CHECK(rig.driver.wake_lead() == kWindow);  // nothing learned yet
@@ -85,7 +85,7 @@ TEST_CASE("A future deadline arms the timer one wake lead early, and the rest is
 }
 
 TEST_CASE("An event already due runs in rearm, without the timer", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   rig.time.advance_to(rig.clock_at(milliseconds(2)));
   rig.event_at(milliseconds(1));
   rig.driver.rearm();
@@ -100,7 +100,7 @@ TEST_CASE("An event already due runs in rearm, without the timer", "[io][driver]
 }
 
 TEST_CASE("catch_up runs what is due by the clock and nothing later", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   rig.event_at(microseconds(500));
   rig.event_at(microseconds(501));
   rig.time.advance_to(rig.clock_at(microseconds(500)));
@@ -114,7 +114,7 @@ TEST_CASE(
     "A deadline inside the wake lead is spun for in a handler of its own, after those "
     "already queued",
     "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   std::vector<int> order;
   boost::asio::post(rig.io, [&] { order.push_back(static_cast<int>(rig.ran.size())); });
   rig.event_at(microseconds(150));
@@ -129,7 +129,7 @@ TEST_CASE(
 }
 
 TEST_CASE("The chained events of one wake-up each get their own spin", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   rig.event_at(milliseconds(1));
   rig.event_at(milliseconds(1) + microseconds(100));
   rig.driver.rearm();
@@ -142,7 +142,7 @@ TEST_CASE("The chained events of one wake-up each get their own spin", "[io][dri
 }
 
 TEST_CASE("Re-arming for the deadline already waited for leaves the timer alone", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   rig.event_at(milliseconds(1));
   rig.driver.rearm();
   rig.driver.rearm();
@@ -158,7 +158,7 @@ TEST_CASE("Re-arming for the deadline already waited for leaves the timer alone"
 
 TEST_CASE("With nothing left to run the timer is cancelled and its wake-up runs nothing",
           "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   const auto id = rig.scheduler.schedule_at(at(milliseconds(1)), [] {});
   rig.driver.rearm();
   rig.scheduler.cancel(id);
@@ -171,7 +171,7 @@ TEST_CASE("With nothing left to run the timer is cancelled and its wake-up runs 
 }
 
 TEST_CASE("A wake-up whose deadline moved away spins for nothing and waits again", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   const auto id = rig.scheduler.schedule_at(at(milliseconds(1)), [] {});
   rig.driver.rearm();
   // Changed without rearm (as between the timer's expiry and its handler): the wake-up reads the
@@ -193,7 +193,7 @@ TEST_CASE("A wake-up whose deadline moved away spins for nothing and waits again
 }
 
 TEST_CASE("The wake lead is learned from how late the timer's wake-ups come", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   constexpr auto kLate = microseconds(30);
   nanoseconds deadline{0};
   for (std::size_t i = 0; i < dxlemu::io::WakeLead::kWindow; ++i) {
@@ -230,7 +230,7 @@ TEST_CASE("The wake lead is learned from how late the timer's wake-ups come", "[
 
 TEST_CASE("Manual pace runs only what is due at the present, at once, and never waits or spins",
           "[io][driver]") {
-  Rig rig(Pace::Manual);
+  DriverRig rig(Pace::Manual);
   rig.event_at(nanoseconds(0));
   rig.event_at(milliseconds(1));
   rig.driver.rearm();
@@ -257,7 +257,7 @@ TEST_CASE("Manual pace runs only what is due at the present, at once, and never 
 }
 
 TEST_CASE("A wake-up already queued when the driver re-armed runs nothing", "[io][driver]") {
-  Rig rig;
+  DriverRig rig;
   const auto id = rig.scheduler.schedule_at(at(milliseconds(1)), [] {});
   rig.driver.rearm();
   // The timer expires; before its handler runs, another handler (bytes from the client) moves

@@ -6,17 +6,13 @@
 #include "app/config/clone_config.hpp"
 #include "bus/bus_rig.hpp"
 #include "scan/bus_scan.hpp"
+#include "shipped_models.hpp"
 #include "wire/status_reader.hpp"
 
 namespace dxlemu {
 namespace {
 
 using namespace std::chrono_literals;
-
-const app::ModelLibrary& library() {
-  static const app::ModelLibrary lib = app::ModelLibrary::load(DXLEMU_MODELS_DIR, {});
-  return lib;
-}
 
 /// A scan link onto a BusRig: each exchange runs the bus for a while and frames what came.
 class RigScanLink final : public scan::ScanLink {
@@ -85,7 +81,7 @@ TEST_CASE("A scan finds 2.0 and 1.0 servos at their rates and reads their EEPROM
   ax.table().set("cw_angle_limit", 100);
   RigScanLink link(rig);
   std::vector<std::string> lines;
-  const auto found = scan::scan_bus(link, library(), narrow({1'000'000, 57'600}),
+  const auto found = scan::scan_bus(link, test::shipped_models(), narrow({1'000'000, 57'600}),
                                     [&](const std::string& line) { lines.push_back(line); });
   REQUIRE(found.size() == 2);
   CHECK(found[0].id == 5);
@@ -125,7 +121,8 @@ TEST_CASE("A scan tells FEETECH servos from DYNAMIXEL 1.0 by where their model n
   RigScanLink link(rig);
   scan::ScanOptions options = narrow({1'000'000});
   options.protocols = {wire::Protocol::V1, wire::Protocol::Feetech};
-  const auto found = scan::scan_bus(link, library(), options, [](const std::string&) {});
+  const auto found =
+      scan::scan_bus(link, test::shipped_models(), options, [](const std::string&) {});
   REQUIRE(found.size() == 2);
   REQUIRE(found[0].spec);
   CHECK(found[0].spec->name == "sts3215");
@@ -144,7 +141,7 @@ TEST_CASE("A servo of a model the library lacks is reported and left out of the 
   ax.table().set("model_number", 4242);
   RigScanLink link(rig);
   std::vector<std::string> lines;
-  const auto found = scan::scan_bus(link, library(), narrow({1'000'000}),
+  const auto found = scan::scan_bus(link, test::shipped_models(), narrow({1'000'000}),
                                     [&](const std::string& line) { lines.push_back(line); });
   REQUIRE(found.size() == 1);
   CHECK(found[0].spec == nullptr);
