@@ -58,6 +58,7 @@ inline std::string protocol_json_list() {
 /// Every protocol's spelling, in table order: "1", "2", "feetech" (the CLI's choices).
 inline std::vector<std::string> protocol_spellings() {
   std::vector<std::string> out;
+  out.reserve(std::size(kProtocolTable));
   for (const ProtocolTraits& row : kProtocolTable) {
     out.emplace_back(row.spelling);
   }
@@ -67,6 +68,7 @@ inline std::vector<std::string> protocol_spellings() {
 /// Every protocol, in table order.
 inline std::vector<Protocol> all_protocols() {
   std::vector<Protocol> out;
+  out.reserve(std::size(kProtocolTable));
   for (const ProtocolTraits& row : kProtocolTable) {
     out.push_back(row.protocol);
   }

@@ -281,7 +281,7 @@ TEST_CASE("A session sends events after its handler returned, and nothing once i
 
 TEST_CASE("A client that does not read is read no more, then disconnected",
           "[io][control_server]") {
-  const std::string big(std::size_t{256} * 1024, 'x');
+  std::string big(std::size_t{256} * 1024, 'x');
   std::size_t requests = 0;
   Rig rig(ControlServer::kDefaultMaxLine, [&](std::string_view, ControlSession&) {
     ++requests;
