@@ -122,6 +122,10 @@ constexpr std::array kRows = {
                      const Written& w) { s.motion->on_goal_position(w.new_value); }},
     // --- the other goals ---
     goal_after_watchdog("goal_velocity"),
+    Row{.keys = {"goal_velocity", "running_speed"},
+        .needs = HookNeeds::Servo,
+        .applies = [](const HookScope& s) { return traits(s).torque_on_by_speed_goal; },
+        .effect = [](const HookScope& s, const Written&) { s.motion->on_speed_goal(); }},
     goal_after_watchdog("goal_current"),
     goal_after_watchdog("goal_pwm"),
     // --- Torque Enable (FEETECH: Torque switch) ---
@@ -160,6 +164,7 @@ constexpr std::array kRows = {
     reading_setting("moving_threshold"),
     reading_setting("cw_angle_limit"),
     reading_setting("ccw_angle_limit"),
+    reading_setting("phase"),
     // --- Bus Watchdog ---
     Row{.keys = {"bus_watchdog"},
         .needs = HookNeeds::Servo,

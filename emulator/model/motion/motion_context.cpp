@@ -1,6 +1,7 @@
 #include "model/motion/motion_context.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "model/table/item_encoding.hpp"
 
@@ -33,7 +34,28 @@ double MotionContext::homing() const {
 }
 
 std::int64_t MotionContext::present_position() const {
-  return round_to(direction() * motor.state().position + homing());
+  const std::int64_t unwrapped = round_to(direction() * motor.state().position + homing());
+  if (!single_turn_feedback()) {
+    return unwrapped;
+  }
+  const auto turn = round_to(motor.params().pulses_per_rev);
+  return ((unwrapped % turn) + turn) % turn;
+}
+
+bool MotionContext::single_turn_feedback() const {
+  return items.phase && (get(items.phase) & traits.full_angle_phase_bit) == 0;
+}
+
+std::int64_t MotionContext::unwrapped(std::int64_t reading, Turn turn) const {
+  if (!single_turn_feedback()) {
+    return reading;
+  }
+  const double size = motor.params().pulses_per_rev;
+  const double now = direction() * motor.state().position + homing();
+  const double base = turn == Turn::Current
+                          ? std::floor(std::round(now) / size) * size
+                          : std::round((now - static_cast<double>(reading)) / size) * size;
+  return reading + round_to(base);
 }
 
 std::int64_t MotionContext::current_reading(double amps) const {

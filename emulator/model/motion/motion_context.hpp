@@ -81,8 +81,23 @@ struct MotionContext {
   double direction() const;
   /// Homing Offset (Multi Turn Offset on MX 1.0), pulses.
   double homing() const;
-  /// Present Position as the motor's position shows: direction · position + Homing Offset.
+  /// Present Position as the motor's position shows: direction · position + Homing Offset,
+  /// within one turn while the feedback is single-turn.
   std::int64_t present_position() const;
+  /// FEETECH single-turn angle feedback: Phase's full-angle bit is clear, so Present Position
+  /// wraps at 0 and one turn (FamilyTraits::full_angle_phase_bit).
+  bool single_turn_feedback() const;
+  /// Which turn a single-turn reading names.
+  enum class Turn {
+    /// The turn the shaft reads on now: a goal is a move of goal − Present Position.
+    Current,
+    /// The turn nearest the shaft: where a reading set from outside moves it least.
+    Nearest,
+  };
+  /// `reading` (a Present Position value) counted over turns as direction · position + Homing
+  /// Offset counts them: `reading` itself unless the feedback is single-turn, when `turn` says
+  /// which of its turns it is.
+  std::int64_t unwrapped(std::int64_t reading, Turn turn) const;
   /// What the model's current reading shows for `amps` (positive toward higher positions):
   /// motion.current_zero plus the current in the model's current unit, which it must have.
   std::int64_t current_reading(double amps) const;

@@ -47,6 +47,7 @@ MotionItems::MotionItems(const ModelSpec& s)
       moving_threshold(s.index_of("moving_threshold")),
       min_position_limit(first_of(s, {"min_position_limit", "minimum_angle_limit"})),
       max_position_limit(first_of(s, {"max_position_limit", "maximum_angle_limit"})),
+      phase(s.traits().full_angle_phase_bit != 0 ? s.index_of("phase") : std::nullopt),
       temperature_limit(first_of(
           s, {"temperature_limit", "motor_temperature_limit", "maximum_temperature_limit"})),
       min_voltage_limit(first_of(s, {"min_voltage_limit", "minimum_input_voltage"})),
@@ -121,7 +122,7 @@ std::vector<std::size_t> MotionItems::readings() const {
 
 std::vector<std::size_t> MotionItems::reading_settings() const {
   return present({homing_offset, multi_turn_offset, drive_mode, moving_threshold, cw_angle_limit,
-                  ccw_angle_limit});
+                  ccw_angle_limit, phase});
 }
 
 }  // namespace dxlemu::model

@@ -26,6 +26,8 @@ struct MotionItems {
   std::optional<std::size_t> torque_limit, current_limit, pwm_limit, velocity_limit, homing_offset,
       multi_turn_offset, cw_angle_limit, ccw_angle_limit, moving_threshold, min_position_limit,
       max_position_limit;
+  /// FEETECH's Phase, where the family reads a bit of it (FamilyTraits::full_angle_phase_bit).
+  std::optional<std::size_t> phase;
   // Protection. `temperature_limit` is Motor Temperature Limit where the model has no single one
   // (DYNAMIXEL-Y); `error_code`, `error_code_history` and `controller_state` are DYNAMIXEL-Y's,
   // `servo_status` FEETECH's (the live error bits of its status packets).
@@ -60,8 +62,8 @@ struct MotionItems {
   /// The Present values above that the model has: every item the motion model writes.
   std::vector<std::size_t> readings() const;
   /// The settings the Present values are computed from (Homing Offset, Multi Turn Offset, Drive
-  /// Mode, Moving Threshold, the angle limits that select MX 1.0 multi-turn): a write to one
-  /// shows in them at once.
+  /// Mode, Moving Threshold, the angle limits that select MX 1.0 multi-turn, FEETECH's Phase):
+  /// a write to one shows in them at once.
   std::vector<std::size_t> reading_settings() const;
 };
 

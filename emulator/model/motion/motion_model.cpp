@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -61,54 +62,87 @@ std::optional<ItemRange> MotionModel::extended_goal_range() const {
 
 void MotionModel::on_goal_position(std::int64_t goal) {
   wake();
-  const MotionItems& items = motion_.items;
-  if (!motion_.torque_on()) {
-    const TorqueOnByGoal by_goal = motion_.traits.torque_on_by_goal;
-    const bool auto_on = by_goal == TorqueOnByGoal::Always ||
-                         (by_goal == TorqueOnByGoal::DriveModeBit &&
-                          (motion_.get(items.drive_mode) & kDriveModeTorqueOnByGoal) != 0);
-    if (!auto_on || motion_.get(items.hardware_error_status) != 0 || !items.torque_enable) {
-      return;
-    }
-    motion_.table.set(*items.torque_enable, 1);
-    motion_.velocity_demand = motion_.motor.state().velocity;
-    // Torque on in Position Control Mode resets the position within one turn, as for a write of
-    // Torque Enable; the goal just written is then the target rather than the present position.
-    if (drive_->mode() == Mode::Position && motion_.traits.one_turn_at_boot_and_torque_on) {
-      motion_.wrap_to_one_turn();
-    }
+  if (!motion_.torque_on() && !torque_on_by_goal()) {
+    return;
   }
   if (position_mode()) {
     drive_->plan_to(goal_target(goal));
   }
 }
 
-double MotionModel::goal_target(std::int64_t goal) const {
+void MotionModel::on_speed_goal() {
+  wake();
+  if (drive_->mode() == Mode::Velocity && !motion_.torque_on() &&
+      motion_.traits.torque_on_by_speed_goal) {
+    torque_on_by_goal();
+  }
+}
+
+bool MotionModel::torque_on_by_goal() {
   const MotionItems& items = motion_.items;
+  const TorqueOnByGoal by_goal = motion_.traits.torque_on_by_goal;
+  const bool auto_on = by_goal == TorqueOnByGoal::Always ||
+                       (by_goal == TorqueOnByGoal::DriveModeBit &&
+                        (motion_.get(items.drive_mode) & kDriveModeTorqueOnByGoal) != 0);
+  if (!auto_on || motion_.get(items.hardware_error_status) != 0 || !items.torque_enable) {
+    return false;
+  }
+  motion_.table.set(*items.torque_enable, 1);
+  motion_.velocity_demand = motion_.motor.state().velocity;
+  // Torque on in Position Control Mode resets the position within one turn, as for a write of
+  // Torque Enable; the goal just written is then the target rather than the present position.
+  if (drive_->mode() == Mode::Position && motion_.traits.one_turn_at_torque_on) {
+    motion_.wrap_to_one_turn();
+  }
+  return true;
+}
+
+double MotionModel::goal_target(std::int64_t goal) const {
   if (drive_->mode() == Mode::Step) {
     // FEETECH step mode: "the number of step progress is represented by parameter 0x2a", counted
     // from where the shaft is when the goal is written (docs/feetech.md "Motion").
     return motion_.motor.state().position + motion_.direction() * static_cast<double>(goal);
   }
-  if (motion_.traits.goal_clamped_to_position_limits && items.min_position_limit &&
-      items.max_position_limit && drive_->mode() == Mode::Position) {
-    const std::int64_t lo = motion_.get(items.min_position_limit);
-    const std::int64_t hi = motion_.get(items.max_position_limit);
-    if (lo != 0 || hi != 0) {
-      goal = std::clamp(goal, lo, std::max(lo, hi));
-    }
+  if (motion_.traits.goal_clamped_to_position_limits && drive_->mode() == Mode::Position) {
+    goal = goal_within_limits(goal);
   }
-  return drive_->raw_goal(goal);
+  // Single-turn feedback: the position loop's error is the goal minus Present Position, so the
+  // goal is a place on the turn the shaft reads on now.
+  return drive_->raw_goal(motion_.unwrapped(goal, MotionContext::Turn::Current));
+}
+
+std::int64_t MotionModel::goal_within_limits(std::int64_t goal) const {
+  const MotionItems& items = motion_.items;
+  if (!items.min_position_limit || !items.max_position_limit) {
+    return goal;
+  }
+  const std::int64_t lo = motion_.get(items.min_position_limit);
+  const std::int64_t hi = motion_.get(items.max_position_limit);
+  if (lo == 0 && hi == 0) {
+    return goal;  // "0 when the multi-turn absolute position control is adopted"
+  }
+  if (!motion_.single_turn_feedback() || lo > hi) {
+    return std::clamp(goal, lo, std::max(lo, hi));
+  }
+  // The goal as the angle it names, and, outside the limits, the limit fewer steps away around
+  // the turn: a goal just past 4095 goes to a Minimum near 0, not to a Maximum far below it.
+  const std::int64_t turn = round_to(motion_.motor.params().pulses_per_rev);
+  const auto around = [turn](std::int64_t steps) { return ((steps % turn) + turn) % turn; };
+  const std::int64_t angle = around(goal);
+  if (angle >= lo && angle <= hi) {
+    return angle;
+  }
+  return around(lo - angle) <= around(angle - hi) ? lo : hi;
 }
 
 void MotionModel::on_torque_enable(std::int64_t old_value, std::int64_t new_value) {
   wake();
   if (new_value == motion_.traits.calibrate_torque_value) {
-    // STS/SMS Torque switch 128: "calibrate the current position to 2048". The torque stays as
-    // it was (docs/feetech.md).
-    motion_.table.set(*motion_.items.torque_enable, old_value);
+    // STS/SMS Torque switch 128: "calibrate the current position to 2048". The flag is a command,
+    // not a state: the item reads 0 afterwards, torque off (docs/feetech.md).
+    motion_.table.set(*motion_.items.torque_enable, 0);
     calibrate_position(motion_.traits.calibrated_position);
-    return;
+    new_value = 0;
   }
   if (old_value == new_value) {
     return;
@@ -119,15 +153,17 @@ void MotionModel::on_torque_enable(std::int64_t old_value, std::int64_t new_valu
     return;
   }
   motion_.velocity_demand = motion_.motor.state().velocity;
-  if (motion_.traits.torque_on_goal == TorqueOnGoal::MovesToGoal) {
+  if (motion_.traits.torque_on_goal == TorqueOnGoal::MovesToGoal && drive_->mode() != Mode::Step) {
+    // The servo drives to Goal Position as it stands, a stale one too: power-on set it to where
+    // the shaft was, and nothing since moved it with the shaft (docs/feetech.md).
     if (position_mode()) {
-      drive_->plan_to(drive_->raw_goal(motion_.get(motion_.items.goal_position)));
+      drive_->plan_to(goal_target(motion_.get(motion_.items.goal_position)));
     }
     return;
   }
   // includes/control_table_opmode_note.md: torque on in Position Control Mode resets Present
   // Position to within one turn. The servo then holds where it is (TorqueOnGoal::Holds).
-  if (drive_->mode() == Mode::Position && motion_.traits.one_turn_at_boot_and_torque_on) {
+  if (drive_->mode() == Mode::Position && motion_.traits.one_turn_at_torque_on) {
     motion_.wrap_to_one_turn();
   }
   hold();
@@ -165,8 +201,15 @@ bool MotionModel::calibrate_position(std::int64_t present) {
   // cannot hold (a target far outside a turn) is refused as a written value out of range would
   // be, rather than clamped to an offset that reads something else (docs/feetech.md).
   const std::int64_t shaft = round_to(motion_.direction() * motion_.motor.state().position);
-  const std::int64_t value =
-      motion_.traits.homing_offset_subtracts ? shaft - present : present - shaft;
+  std::int64_t value = motion_.traits.homing_offset_subtracts ? shaft - present : present - shaft;
+  if (motion_.single_turn_feedback()) {
+    // A single-turn reading repeats every turn: of the offsets that make it, the one nearest 0.
+    const std::int64_t turn = round_to(motion_.motor.params().pulses_per_rev);
+    if (present < 0 || present >= turn) {
+      return false;
+    }
+    value -= round_to(static_cast<double>(value) / static_cast<double>(turn)) * turn;
+  }
   if (!motion_.table.spec().items[*offset].in_range(value)) {
     return false;
   }
@@ -225,7 +268,7 @@ void MotionModel::after_reboot() {
   activity_ = Activity::Active;
   // includes/control_table_opmode_note.md: at power-on and reboot Present Position is within one
   // turn again (not for MX 1.0 multi-turn, whose position is absolute within its range).
-  if (motion_.traits.one_turn_at_boot_and_torque_on) {
+  if (motion_.traits.one_turn_at_boot) {
     motion_.wrap_to_one_turn();
   }
   protection_.reset();

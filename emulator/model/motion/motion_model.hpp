@@ -92,6 +92,9 @@ class MotionModel {
 
   /// Goal Position written: the move starts (and, where the family does so, torque comes on).
   void on_goal_position(std::int64_t goal);
+  /// The speed goal (Goal Velocity; FEETECH Running speed) written: in velocity mode, where the
+  /// family does so, torque comes on (FamilyTraits::torque_on_by_speed_goal).
+  void on_speed_goal();
   /// Torque Enable (FEETECH: Torque switch) written from `old_value` to `new_value`.
   void on_torque_enable(std::int64_t old_value, std::int64_t new_value);
   /// Operating Mode changed: the profile and the limits reset.
@@ -128,6 +131,12 @@ class MotionModel {
   /// The motor position, pulses, a Goal Position write of `goal` sends the motor to: relative
   /// in step mode, within the position limits where the family clamps goals.
   double goal_target(std::int64_t goal) const;
+  /// `goal` clamped to Min ~ Max Position Limit, to the nearer limit around the turn while the
+  /// feedback is single-turn (FEETECH: "wrap-aware"); unchanged when both limits are 0.
+  std::int64_t goal_within_limits(std::int64_t goal) const;
+  /// Torque off, a goal written: torque comes on where the family's TorqueOnByGoal says so.
+  /// False when it stays off.
+  bool torque_on_by_goal();
   void hold();
   void publish();
   void absorb_device_changes();

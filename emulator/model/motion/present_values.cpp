@@ -18,7 +18,10 @@ bool PresentValues::absorb(const Drive& drive) {
   bool moved = false;
   if (items.present_position && table.get(*items.present_position) != position_) {
     position_ = table.get(*items.present_position);
-    motion_.motor.set_position(drive.raw_goal(position_));
+    // A single-turn reading names an angle, not a turn: the shaft moves the least way to it, so
+    // a reading set step by step across 4095 and 0 turns it on, not back a whole turn.
+    motion_.motor.set_position(
+        drive.raw_goal(motion_.unwrapped(position_, MotionContext::Turn::Nearest)));
     moved = true;
   }
   if (items.present_temperature && table.get(*items.present_temperature) != temperature_) {

@@ -42,7 +42,8 @@ constexpr FamilyTraits kX = {.family = Family::X,
                              .extended_goals = ExtendedGoals::Turns,
                              .torque_on_by_goal = TorqueOnByGoal::DriveModeBit,
                              .torque_on_goal = TorqueOnGoal::Holds,
-                             .one_turn_at_boot_and_torque_on = true,
+                             .one_turn_at_boot = true,
+                             .one_turn_at_torque_on = true,
                              .drive_mode_reverses = true,
                              .error_reaction = ErrorReaction::LatchedShutdown,
                              .fault_bits = kXFaultBits,
@@ -103,7 +104,8 @@ constexpr FamilyTraits kY = [] {
   FamilyTraits row = with_name(kP, Family::Y, "y");
   row.extended_goals = ExtendedGoals::ItemRange;
   row.torque_on_by_goal = TorqueOnByGoal::Never;
-  row.one_turn_at_boot_and_torque_on = false;
+  row.one_turn_at_boot = false;
+  row.one_turn_at_torque_on = false;
   row.error_reaction = ErrorReaction::ErrorCode;
   row.fault_bits = {};
   row.error_codes = kYErrorCodes;
@@ -182,15 +184,22 @@ constexpr std::int64_t kSmsMinReturnDelay = 50;
 constexpr RefusalBits kFeetechRefusalBits = {
     .checksum = wire::v1_error::kChecksum, .instruction = wire::v1_error::kInstruction, .range = 0};
 
+// Phase (18) bit 4, "angle feedback mode, (0) single-turn angle feedback, (1) full-angle
+// feedback" (STS, SMS and HLS tables; SCSCL marks it unused).
+constexpr std::uint8_t kFullAnglePhaseBit = 0x10;
+
 // SCS/SCSCL, the row the other FEETECH series start from (no Torque switch 128 in its table).
 // The errors show in every status while they last and in Servo status; Unload condition selects
-// the ones that unload the motor (the Protocol 1.0 Alarm Shutdown).
+// the ones that unload the motor (the Protocol 1.0 Alarm Shutdown). A goal write turns torque on
+// and torque on drives to the goal as it stands (docs/feetech.md "Torque and goals").
 constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .name = "scs",
                                .maker = Maker::Feetech,
                                .drive = DriveKind::OperatingMode,
                                .goal_clamped_to_position_limits = true,
-                               .torque_on_goal = TorqueOnGoal::Holds,
+                               .torque_on_by_goal = TorqueOnByGoal::Always,
+                               .torque_on_goal = TorqueOnGoal::MovesToGoal,
+                               .torque_on_by_speed_goal = true,
                                .error_reaction = ErrorReaction::AlarmShutdown,
                                .fault_bits = kScsFaultBits,
                                .reboot_status = false,
@@ -205,11 +214,13 @@ constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .lock_flag_keeps_eeprom = true,
                                .refusal_bits = kFeetechRefusalBits};
 
-// STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), with every status bit and Torque
-// switch 128.
+// STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), with every status bit, Torque
+// switch 128 and single-turn or full-angle feedback, whose turn count power-off loses.
 constexpr FamilyTraits kSts = [] {
   FamilyTraits row = with_name(kScs, Family::Sts, "sts");
   row.fault_bits = kStsFaultBits;
+  row.full_angle_phase_bit = kFullAnglePhaseBit;
+  row.one_turn_at_boot = true;
   row.calibrate_torque_value = kTorqueCalibrate;
   return row;
 }();
@@ -224,6 +235,8 @@ constexpr FamilyTraits kSms = [] {
 constexpr FamilyTraits kHls = [] {
   FamilyTraits row = with_name(kScs, Family::Hls, "hls");
   row.fault_bits = kHlsFaultBits;
+  row.full_angle_phase_bit = kFullAnglePhaseBit;
+  row.one_turn_at_boot = true;
   return row;
 }();
 

@@ -167,9 +167,20 @@ struct FamilyTraits {
   TorqueOnByGoal torque_on_by_goal = TorqueOnByGoal::Never;
   /// What torque on does to the goal.
   TorqueOnGoal torque_on_goal = TorqueOnGoal::Holds;
-  /// Present Position returns within one turn at power-on, reboot, and torque on in Position
-  /// Control Mode (includes/control_table_opmode_note.md); otherwise the shaft's turn is kept.
-  bool one_turn_at_boot_and_torque_on = false;
+  /// Present Position returns within one turn at power-on and reboot: the turn count is lost
+  /// (includes/control_table_opmode_note.md; FEETECH's full-angle feedback, "the turn count is
+  /// lost at power-off"); otherwise the shaft's turn is kept.
+  bool one_turn_at_boot = false;
+  /// Present Position returns within one turn at torque on in Position Control Mode
+  /// (includes/control_table_opmode_note.md).
+  bool one_turn_at_torque_on = false;
+  /// The bit of the Phase item (FEETECH's address 18) that selects full-angle position feedback:
+  /// while it is clear Present Position is the angle within one turn, wrapping at 0 and one turn
+  /// (docs/feetech.md "Angle feedback"); 0: no such bit, Present Position counts turns.
+  std::uint8_t full_angle_phase_bit = 0;
+  /// Writing the speed goal (Goal Velocity; FEETECH Running speed) in velocity (wheel) mode
+  /// turns torque on, as a Goal Position write does in position mode (TorqueOnByGoal::Always).
+  bool torque_on_by_speed_goal = false;
   /// Drive Mode bit 0 reverses positions, velocities, currents and PWM
   /// (includes/control_table_drivemode.md). MX 1.0 and EX use that bit for dual-servo mode.
   bool drive_mode_reverses = false;

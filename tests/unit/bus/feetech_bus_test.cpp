@@ -410,6 +410,9 @@ TEST_CASE("FEETECH position mode stops at the angle limits, both 0 lift them",
   ask(rig, 1, wire::Write{42, le16(6000)});
   rig.run(5s);
   rig.bus.catch_up();
+  // Single-turn feedback (Phase 12): the shaft went 5000 steps on, and reads the angle there.
+  CHECK(std::abs(servo.table().get("present_position") - (6000 - 4096)) <= 2);
+  ask(rig, 1, wire::Write{18, {12 | 16}});  // full-angle feedback: the turns show
   CHECK(std::abs(servo.table().get("present_position") - 6000) <= 2);
 }
 
@@ -493,7 +496,9 @@ TEST_CASE("STS Torque switch 128 calibrates Present Position to 2048", "[bus][fe
   REQUIRE(std::abs(servo.table().get("present_position") - 1000) <= 2);
   ask(rig, 1, wire::Write{40, {128}});
   CHECK(servo.table().get("present_position") == 2048);
-  CHECK(servo.table().get("torque_switch") == 1);  // the torque stays as it was
+  // A command, not a state: bit 7 clears, and the item reads 0, torque off.
+  CHECK(servo.table().get("torque_switch") == 0);
+  CHECK(servo.table().get("goal_position") == 1000);
 }
 
 TEST_CASE("FEETECH position calibration, status reset, parameter backup and recovery",

@@ -50,7 +50,8 @@ TEST_CASE("The Protocol 1.0 families move by joint and wheel mode and shut down 
     CHECK_FALSE(t.eeprom_locked_by_torque);  // they lock EEPROM through Lock
     CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::Always);
     CHECK(t.torque_on_goal == model::TorqueOnGoal::MovesToGoal);
-    CHECK_FALSE(t.one_turn_at_boot_and_torque_on);
+    CHECK_FALSE(t.one_turn_at_boot);
+    CHECK_FALSE(t.one_turn_at_torque_on);
     CHECK_FALSE(t.drive_mode_reverses);
     CHECK(t.error_reaction == model::ErrorReaction::AlarmShutdown);
     CHECK(same_bits(t.fault_bits, model::kProtocol1FaultBits));
@@ -93,7 +94,8 @@ TEST_CASE("The Operating Mode families hold at torque on and latch their errors"
     CHECK(t.eeprom_locked_by_torque);
     CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::DriveModeBit);
     CHECK(t.torque_on_goal == model::TorqueOnGoal::Holds);
-    CHECK(t.one_turn_at_boot_and_torque_on);
+    CHECK(t.one_turn_at_boot);
+    CHECK(t.one_turn_at_torque_on);
     CHECK(t.error_reaction == model::ErrorReaction::LatchedShutdown);
     CHECK_FALSE(t.protocol1_firmware);
   }
@@ -122,7 +124,8 @@ TEST_CASE(
   // multi-turn position the servo keeps over power cycles.
   CHECK(t.torque_on_by_goal == model::TorqueOnByGoal::Never);
   CHECK(t.extended_goals == model::ExtendedGoals::ItemRange);
-  CHECK_FALSE(t.one_turn_at_boot_and_torque_on);
+  CHECK_FALSE(t.one_turn_at_boot);
+  CHECK_FALSE(t.one_turn_at_torque_on);
   CHECK(t.error_reaction == model::ErrorReaction::ErrorCode);
   CHECK(t.error_codes.over_voltage == 1);
   CHECK(t.error_codes.low_voltage == 2);
