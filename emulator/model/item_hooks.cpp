@@ -71,6 +71,12 @@ Protection& protection(const HookScope& s) {
   return s.motion->protection();
 }
 
+// The family's protections end at the next position command (ErrorEnd::PositionCommand).
+bool ends_at_position_command(const HookScope& s) {
+  return traits(s).error_reaction == ErrorReaction::Unload &&
+         faults_ending(traits(s).error_rules, ErrorEnd::PositionCommand) != 0;
+}
+
 // The goal items a Bus Watchdog error makes read-only.
 constexpr Row goal_after_watchdog(std::string_view key) {
   return {.keys = {key},
@@ -116,12 +122,29 @@ constexpr std::array kRows = {
                      traits(s).extended_goals != ExtendedGoals::ItemRange;
             },
         .range = [](const HookScope& s) { return s.motion->extended_goal_range(); }},
+    // FEETECH: a position command ends the protections tripped until then, before the move
+    // starts (feetech/field-behaviour.md row 7).
+    Row{.keys = {"goal_position"},
+        .needs = HookNeeds::Servo,
+        .applies = ends_at_position_command,
+        .effect = [](const HookScope& s, const Written&) { protection(s).position_commanded(); }},
     Row{.keys = {"goal_position"},
         .needs = HookNeeds::Servo,
         .effect = [](const HookScope& s,
                      const Written& w) { s.motion->on_goal_position(w.new_value); }},
     // --- the other goals ---
     goal_after_watchdog("goal_velocity"),
+    // FEETECH wheel mode: Running speed is the mode's command, as Goal position is position
+    // mode's (in position mode it is the speed of the moves, a setting).
+    Row{.keys = {"goal_velocity", "running_speed"},
+        .needs = HookNeeds::Servo,
+        .applies = ends_at_position_command,
+        .effect =
+            [](const HookScope& s, const Written&) {
+              if (s.motion->mode() == Mode::Velocity) {
+                protection(s).position_commanded();
+              }
+            }},
     Row{.keys = {"goal_velocity", "running_speed"},
         .needs = HookNeeds::Servo,
         .applies = [](const HookScope& s) { return traits(s).torque_on_by_speed_goal; },
@@ -179,7 +202,9 @@ constexpr std::array kRows = {
         .needs = HookNeeds::Servo,
         .applies =
             [](const HookScope& s) {
-              return traits(s).error_reaction == ErrorReaction::AlarmShutdown;
+              return traits(s).error_reaction == ErrorReaction::AlarmShutdown ||
+                     (traits(s).error_reaction == ErrorReaction::Unload &&
+                      faults_ending(traits(s).error_rules, ErrorEnd::TorqueLimitWritten) != 0);
             },
         .effect = [](const HookScope& s, const Written&) { protection(s).torque_limit_written(); }},
     // --- Hybrid Save and the Hybrid items (DYNAMIXEL-Y) ---

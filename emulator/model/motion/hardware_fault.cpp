@@ -1,15 +1,6 @@
 #include "model/motion/hardware_fault.hpp"
 
-#include <array>
-
 namespace dxlemu::model {
-namespace {
-
-constexpr std::array<HardwareFault, 6> kFaults = {
-    HardwareFault::InputVoltage,    HardwareFault::Overheating, HardwareFault::Overload,
-    HardwareFault::ElectricalShock, HardwareFault::Encoder,     HardwareFault::HallSensor};
-
-}  // namespace
 
 std::uint8_t fault_bit(const FaultBits& bits, HardwareFault fault) {
   switch (fault) {
@@ -35,12 +26,51 @@ std::uint8_t fault_bit(Family family, HardwareFault fault) {
 
 std::uint8_t fault_bits(Family family, FaultSet faults) {
   std::uint8_t bits = 0;
-  for (const HardwareFault f : kFaults) {
+  for (const HardwareFault f : kHardwareFaults) {
     if ((faults & fault_set(f)) != 0) {
       bits |= fault_bit(family, f);
     }
   }
   return bits;
+}
+
+FaultSet faults_of(Family family, std::int64_t bits) {
+  FaultSet faults = 0;
+  for (const HardwareFault f : kHardwareFaults) {
+    const std::uint8_t bit = fault_bit(family, f);
+    if (bit != 0 && (bits & bit) != 0) {
+      faults |= fault_set(f);
+    }
+  }
+  return faults;
+}
+
+ErrorRule error_rule(const ErrorRules& rules, HardwareFault fault) {
+  switch (fault) {
+    case HardwareFault::InputVoltage:
+      return rules.input_voltage;
+    case HardwareFault::Overheating:
+      return rules.overheating;
+    case HardwareFault::Overload:
+      return rules.overload;
+    case HardwareFault::ElectricalShock:
+      return rules.electrical_shock;
+    case HardwareFault::Encoder:
+      return rules.encoder;
+    case HardwareFault::HallSensor:
+      return rules.hall_sensor;
+  }
+  return {};
+}
+
+FaultSet faults_ending(const ErrorRules& rules, ErrorEnd end) {
+  FaultSet faults = 0;
+  for (const HardwareFault f : kHardwareFaults) {
+    if (error_rule(rules, f).end == end) {
+      faults |= fault_set(f);
+    }
+  }
+  return faults;
 }
 
 std::string_view fault_name(HardwareFault fault) {
@@ -62,7 +92,7 @@ std::string_view fault_name(HardwareFault fault) {
 }
 
 std::optional<HardwareFault> fault_from_name(std::string_view name) {
-  for (const HardwareFault f : kFaults) {
+  for (const HardwareFault f : kHardwareFaults) {
     if (fault_name(f) == name) {
       return f;
     }

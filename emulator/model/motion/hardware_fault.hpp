@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -36,6 +37,20 @@ std::uint8_t fault_bit(Family family, HardwareFault fault);
 
 /// The family's bits for every fault in `faults`.
 std::uint8_t fault_bits(Family family, FaultSet faults);
+
+/// The faults whose bits the family sets in `bits` (its Shutdown or Unload condition item).
+FaultSet faults_of(Family family, std::int64_t bits);
+
+/// The rule of `fault` in `rules`.
+ErrorRule error_rule(const ErrorRules& rules, HardwareFault fault);
+
+/// The faults whose rule in `rules` ends at `end`.
+FaultSet faults_ending(const ErrorRules& rules, ErrorEnd end);
+
+/// Every fault, in enum order.
+inline constexpr std::array<HardwareFault, 6> kHardwareFaults = {
+    HardwareFault::InputVoltage,    HardwareFault::Overheating, HardwareFault::Overload,
+    HardwareFault::ElectricalShock, HardwareFault::Encoder,     HardwareFault::HallSensor};
 
 /// snake_case name: input_voltage, overheating, overload, electrical_shock, encoder, hall_sensor.
 std::string_view fault_name(HardwareFault fault);

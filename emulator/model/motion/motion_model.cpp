@@ -346,6 +346,7 @@ void MotionModel::publish_realtime_tick(sim::SimTime now) {
 void MotionModel::run_tick() {
   const MotorState before = motion_.motor.state();
   const bool was_running = motion_.profile_running();
+  const double torque_share = motion_.protection_torque_share;
   motion_.state_time = next_tick_;
   motion_.motor.step(command(), motion_.conditions);
   protection_.check();
@@ -353,8 +354,11 @@ void MotionModel::run_tick() {
   const MotorState& after = motion_.motor.state();
   MotorState same_heat = before;
   same_heat.temperature_c = after.temperature_c;
+  // A protection that gave the motor its torque back (or took it) moves the shaft from the next
+  // tick on, though this one changed nothing.
   const bool still = after == same_heat && !was_running && !after.at_limit &&
-                     (drive_->mode() == Mode::Velocity || motion_.velocity_demand == 0);
+                     (drive_->mode() == Mode::Velocity || motion_.velocity_demand == 0) &&
+                     motion_.protection_torque_share == torque_share;
   if (!still) {
     activity_ = Activity::Active;
   } else if (after.temperature_c == before.temperature_c) {

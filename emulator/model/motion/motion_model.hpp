@@ -108,6 +108,8 @@ class MotionModel {
   std::optional<ItemRange> extended_goal_range() const;
   /// Hardware error detection and the reaction to it.
   Protection& protection() { return protection_; }
+  /// The control mode the goal items select now; nullopt: none the family knows.
+  std::optional<Mode> mode() const { return drive_->mode(); }
 
   /// The motor and shaft now.
   const MotorState& motor() const { return motion_.motor.state(); }

@@ -56,86 +56,78 @@ void Protection::bus_watchdog_written(std::int64_t value) {
 void Protection::torque_limit_written() {
   v1_errors_ &= static_cast<std::uint8_t>(~fault_bits(motion_.traits.family, latched_));
   latched_ = 0;
+  if (until_torque_limit_ != 0) {
+    until_torque_limit_ = 0;
+    show_unload();
+  }
+}
+
+void Protection::position_commanded() {
+  if (tripped_ == 0) {
+    return;
+  }
+  tripped_ = 0;
+  // The protection starts timing afresh: a shaft still blocked trips it again after Protection
+  // time at full torque, as it did the first time.
+  over_torque_ms_ = 0;
+  over_current_ms_ = 0;
+  show_unload();
 }
 
 void Protection::check() {
   const MotionItems& items = motion_.items;
   const MotorState& s = motion_.motor.state();
   at_limit_ms_ = s.at_limit && motion_.torque_on() ? at_limit_ms_ + motion_.motor.tick_ms() : 0;
-  FaultSet active = injected_;
+  FaultSet detected = 0;
   const double volts = motion_.conditions.supply_v * kDeciVolt;
   if (items.min_voltage_limit &&
       (volts < static_cast<double>(motion_.get(items.min_voltage_limit)) ||
        volts > static_cast<double>(motion_.get(items.max_voltage_limit)))) {
-    active |= fault_set(HardwareFault::InputVoltage);
+    detected |= fault_set(HardwareFault::InputVoltage);
   }
   if (items.temperature_limit &&
       s.temperature_c >= static_cast<double>(motion_.get(items.temperature_limit))) {
-    active |= fault_set(HardwareFault::Overheating);
+    detected |= fault_set(HardwareFault::Overheating);
   }
   if (items.overload_torque && items.overload_time) {
     if (timed_overload()) {
-      active |= fault_set(HardwareFault::Overload);
+      detected |= fault_set(HardwareFault::Overload);
     }
   } else if (at_limit_ms_ >= motion_.motor.params().overload_ms) {
-    active |= fault_set(HardwareFault::Overload);
-    latched_ |= fault_set(HardwareFault::Overload);
+    detected |= fault_set(HardwareFault::Overload);
   }
   if (timed_overcurrent()) {
-    active |= fault_set(HardwareFault::ElectricalShock);
-    latched_ |= fault_set(HardwareFault::ElectricalShock);
+    detected |= fault_set(HardwareFault::ElectricalShock);
   }
   switch (motion_.traits.error_reaction) {
     case ErrorReaction::AlarmShutdown:
-      alarm_shutdown(active);
+      // The 1.0 Overload went with the torque it unloaded: it is reported until Torque Limit is
+      // written.
+      latched_ |= detected & fault_set(HardwareFault::Overload);
+      alarm_shutdown(detected | injected_);
       return;
     case ErrorReaction::LatchedShutdown:
-      latch(active);
+      latch(detected | injected_);
       return;
     case ErrorReaction::ErrorCode:
-      latch_error_code(active, volts);
+      latch_error_code(detected | injected_, volts);
+      return;
+    case ErrorReaction::Unload:
+      unload(detected);
       return;
   }
 }
 
 bool Protection::timed_overload() {
   const MotionItems& items = motion_.items;
-  const MotorState& s = motion_.motor.state();
-  const double tick_ms = motion_.motor.tick_ms();
-  const bool torque_on = motion_.torque_on();
-  // An injected overload trips the protection as a real one would, for as long as it is set.
-  const bool forced = (injected_ & fault_set(HardwareFault::Overload)) != 0;
-  if (holding_ && !forced) {
-    // The protection holds while the motor still gives all it is left (the shaft blocked or
-    // overpowered); once Holding torque does the job, the full torque is back (docs/feetech.md
-    // "Status bits": FEETECH does not say when the protection ends).
-    if (torque_on && s.at_limit) {
-      return true;
-    }
-    holding_ = false;
-    motion_.protection_torque_share = 1;
-  }
   // "Maximum torque value that starts the overload protection timer; for example 80 means 80%
   // of the maximum torque": of the full (stall) torque, the scale of Present load.
   const double threshold = static_cast<double>(motion_.get(items.overload_torque)) / kPercent *
                            motion_.motor.params().stall_torque_nm;
-  const double torque = std::abs(s.torque_nm);
-  const bool over = torque_on && torque > 0 && torque >= threshold;
-  over_torque_ms_ = over ? over_torque_ms_ + tick_ms : 0;
-  const double trip_ms = static_cast<double>(motion_.get(items.overload_time)) * kTenMs;
-  if (!forced && (!over || over_torque_ms_ < trip_ms)) {
-    return false;
-  }
-  const std::uint8_t load_bit = fault_bit(motion_.traits.family, HardwareFault::Overload);
-  if ((motion_.get(items.shutdown) & load_bit) != 0) {
-    over_torque_ms_ = 0;
-    // "Torque output after entering overload protection; for example 20 means 20% of the
-    // maximum torque".
-    holding_ = true;
-    motion_.protection_torque_share =
-        static_cast<double>(motion_.get(items.holding_torque)) / kPercent;
-  }
-  return true;
+  const double torque = std::abs(motion_.motor.state().torque_nm);
+  const bool over = motion_.torque_on() && torque > 0 && torque >= threshold;
+  over_torque_ms_ = over ? over_torque_ms_ + motion_.motor.tick_ms() : 0;
+  return over && over_torque_ms_ >= static_cast<double>(motion_.get(items.overload_time)) * kTenMs;
 }
 
 bool Protection::timed_overcurrent() {
@@ -155,21 +147,74 @@ bool Protection::timed_overcurrent() {
 
 void Protection::alarm_shutdown(FaultSet active) {
   // 1.0 Alarm Shutdown: Torque Limit goes to 0 while a selected error is present
-  // (includes/control_table_alarm_shutdown.md). FEETECH's overload protection reacts with
-  // Holding torque instead (timed_overload()).
+  // (includes/control_table_alarm_shutdown.md).
   const Family family = motion_.traits.family;
   active |= latched_;
-  FaultSet unloading = active;
-  if (motion_.items.overload_torque && motion_.items.overload_time) {
-    unloading &= static_cast<FaultSet>(~fault_set(HardwareFault::Overload));
-  }
-  if ((fault_bits(family, unloading) & motion_.get(motion_.items.shutdown)) != 0) {
+  if ((fault_bits(family, active) & motion_.get(motion_.items.shutdown)) != 0) {
     motion_.put(motion_.items.torque_limit, 0);
     at_limit_ms_ = 0;
   }
   v1_errors_ = fault_bits(family, active);
+}
+
+void Protection::unload(FaultSet detected) {
+  const ErrorRules& rules = motion_.traits.error_rules;
+  const FaultSet selected = faults_of(motion_.traits.family, motion_.get(motion_.items.shutdown));
+  // A protection the servo trips itself stays tripped after its condition (the shaft no longer
+  // pushing, the current cut) until the next position command (feetech/field-behaviour.md
+  // row 7). Tripping restarts its timer. An unselected one only shows while it lasts.
+  const FaultSet trips = detected & selected & faults_ending(rules, ErrorEnd::PositionCommand);
+  tripped_ |= trips;
+  if ((trips & fault_set(HardwareFault::Overload)) != 0) {
+    over_torque_ms_ = 0;
+  }
+  if ((trips & fault_set(HardwareFault::ElectricalShock)) != 0) {
+    over_current_ms_ = 0;
+  }
+  // An injected error is a condition for as long as its rule lasts, never a trip.
+  conditions_ = (detected & ~trips) | injected_;
+  until_torque_limit_ |=
+      conditions_ & selected & faults_ending(rules, ErrorEnd::TorqueLimitWritten);
+  // Over-temperature switches the torque off, again whenever it is switched on while still hot.
+  for (const HardwareFault f : kHardwareFaults) {
+    if ((conditions_ & selected & fault_set(f)) != 0 &&
+        error_rule(rules, f).effect == ErrorEffect::TorqueOff) {
+      turn_torque_off_for_error();
+    }
+  }
+  show_unload();
+}
+
+void Protection::show_unload() {
+  const MotionItems& items = motion_.items;
+  const ErrorRules& rules = motion_.traits.error_rules;
+  const FaultSet selected = faults_of(motion_.traits.family, motion_.get(items.shutdown));
+  const FaultSet acting = (conditions_ & selected) | tripped_ | until_torque_limit_;
+  double share = 1;
+  for (const HardwareFault f : kHardwareFaults) {
+    if ((acting & fault_set(f)) == 0) {
+      continue;
+    }
+    switch (error_rule(rules, f).effect) {
+      case ErrorEffect::Unload:
+        share = 0;
+        break;
+      case ErrorEffect::HoldingTorque:
+        // "Torque output after entering overload protection; for example 20 means 20% of the
+        // maximum torque".
+        share = std::min(share, static_cast<double>(motion_.get(items.holding_torque)) / kPercent);
+        break;
+      case ErrorEffect::TorqueOff:
+        break;  // done when detected: the torque switch reads 0
+    }
+  }
+  motion_.protection_torque_share = share;
+  if (share == 0) {
+    at_limit_ms_ = 0;
+  }
+  v1_errors_ = fault_bits(motion_.traits.family, conditions_ | tripped_);
   // FEETECH Servo status (65): the bits its status packets carry.
-  motion_.put(motion_.items.servo_status, v1_errors_);
+  motion_.put(items.servo_status, v1_errors_);
 }
 
 void Protection::latch(FaultSet active) {
@@ -292,10 +337,12 @@ std::uint8_t Protection::v1_error_bits() const {
 
 void Protection::reset() {
   latched_ = 0;
+  conditions_ = 0;
+  tripped_ = 0;
+  until_torque_limit_ = 0;
   at_limit_ms_ = 0;
   over_torque_ms_ = 0;
   over_current_ms_ = 0;
-  holding_ = false;
   motion_.protection_torque_share = 1;
   publish_controller_state();  // Startup Configuration may have turned torque on
 }

@@ -12,9 +12,9 @@ namespace dxlemu::model {
 /// winding over Temperature Limit, the motor at its torque limit for the Overload time or, where
 /// the model has FEETECH's timed protections, over Overload torque for Protection time and over
 /// Protection current for Overcurrent protection time, and the errors forced from outside) and
-/// reacts as its family does (FamilyTraits::error_reaction): Alarm Shutdown, a latched Shutdown, or
-/// DYNAMIXEL-Y's Error Code. Keeps DYNAMIXEL-Y's Controller State(152) in step with torque and
-/// errors. docs/motion.md "Hardware errors".
+/// reacts as its family does (FamilyTraits::error_reaction): Alarm Shutdown, a latched Shutdown,
+/// DYNAMIXEL-Y's Error Code, or FEETECH's Unload condition. Keeps DYNAMIXEL-Y's Controller
+/// State(152) in step with torque and errors. docs/motion.md "Hardware errors".
 class Protection {
  public:
   /// Protection working on `motion`, which must outlive it.
@@ -31,8 +31,13 @@ class Protection {
   TableResult refuse_torque_while_error_code(std::int64_t value) const;
   /// Bus Watchdog written `value`: 0 clears a Bus Watchdog error reported in Error Code.
   void bus_watchdog_written(std::int64_t value);
-  /// Torque Limit written: a 1.0 Alarm Shutdown's latched errors (Overload) end.
+  /// Torque Limit written: a 1.0 Alarm Shutdown's latched errors (Overload) end; so do the
+  /// effects of errors whose rule ends there (ErrorEnd::TorqueLimitWritten).
   void torque_limit_written();
+  /// A position command arrived (FEETECH: a Goal position write, or Running speed in wheel
+  /// mode): the protections tripped until then (ErrorEnd::PositionCommand) end at once, in time
+  /// for the command's own status.
+  void position_commanded();
   /// Controller State (DYNAMIXEL-Y) shows torque and errors as they are now.
   void publish_controller_state();
 
@@ -42,7 +47,7 @@ class Protection {
   void set_injected(FaultSet faults) { injected_ = faults; }
 
   /// Checks the motor's state after a tick and reacts: a shutdown turns torque off (or sets
-  /// Torque Limit to 0) and ends the move.
+  /// Torque Limit to 0, or unloads the motor) and ends the move.
   void check();
 
   /// The errors a Protocol 1.0 status reports in its error byte now: the 1.0 families' errors
@@ -52,19 +57,24 @@ class Protection {
   /// Bus Watchdog expiry, where the family reports it in Error Code (ErrorCodes::bus_watchdog).
   void report_bus_watchdog();
 
-  /// Power-on or reboot: no Overload building up or latched; Controller State shows torque.
+  /// Power-on or reboot: no Overload building up or latched, no protection tripped; Controller
+  /// State shows torque.
   void reset();
 
  private:
   /// True while Error Code holds an error that keeps torque off (every one but Bus Watchdog).
   bool torque_off_error() const;
-  /// FEETECH's overload protection: true while it is tripped. Once tripped (with the load bit
-  /// in Unload condition) the motor keeps only Holding torque until it no longer needs more.
+  /// FEETECH's overload protection: true once the motor's torque has been at Overload torque
+  /// for Protection time.
   bool timed_overload();
   /// FEETECH's overcurrent protection: true once Present current has been at Protection current
   /// for Overcurrent protection time.
   bool timed_overcurrent();
   void alarm_shutdown(FaultSet active);
+  /// ErrorReaction::Unload after a check: `detected` are the errors the servo found itself.
+  void unload(FaultSet detected);
+  /// ErrorReaction::Unload: the motor's torque and the status bits as the errors now say.
+  void show_unload();
   void latch(FaultSet active);
   void latch_error_code(FaultSet active, double volts);
   /// A latched error turns torque off: the motor stops driving and the profile ends.
@@ -76,10 +86,15 @@ class Protection {
   double at_limit_ms_ = 0;      // how long the motor has been at its torque limit
   double over_torque_ms_ = 0;   // how long over FEETECH's Overload torque
   double over_current_ms_ = 0;  // how long at FEETECH's Protection current
-  bool holding_ = false;        // FEETECH's overload protection leaves only Holding torque
-  // Errors that unloaded the motor and went with its torque (1.0 Overload, FEETECH overcurrent):
-  // reported until Torque Limit is written.
+  // 1.0 Alarm Shutdown: errors that went with the torque they unloaded (Overload), reported
+  // until Torque Limit is written.
   FaultSet latched_ = 0;
+  // ErrorReaction::Unload: the conditions of the last check (a trip takes its condition over),
+  // the protections tripped until the next position command, and the errors whose effect lasts
+  // until Torque limit is written.
+  FaultSet conditions_ = 0;
+  FaultSet tripped_ = 0;
+  FaultSet until_torque_limit_ = 0;
   std::uint8_t v1_errors_ = 0;  // 1.0 error bits from the last check
 };
 

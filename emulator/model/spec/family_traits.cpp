@@ -188,10 +188,24 @@ constexpr RefusalBits kFeetechRefusalBits = {
 // feedback" (STS, SMS and HLS tables; SCSCL marks it unused).
 constexpr std::uint8_t kFullAnglePhaseBit = 0x10;
 
+// How FEETECH's protections act and end (feetech/field-behaviour.md row 7, after the STS3215
+// specification): overload (Holding torque: "torque output after entering overload protection")
+// and overcurrent (output off) until the next position command; over-voltage until the voltage
+// recovers; over-temperature turns the torque off. FEETECH says nothing of the encoder: it keeps
+// the Protocol 1.0 rule dxlemu gave it before, its unload lasting until Torque limit is written.
+// FEETECH has no Hall sensor bit, so that rule is never used.
+constexpr ErrorRules kFeetechErrorRules = {
+    .input_voltage = {.effect = ErrorEffect::Unload, .end = ErrorEnd::Condition},
+    .overheating = {.effect = ErrorEffect::TorqueOff, .end = ErrorEnd::Condition},
+    .overload = {.effect = ErrorEffect::HoldingTorque, .end = ErrorEnd::PositionCommand},
+    .electrical_shock = {.effect = ErrorEffect::Unload, .end = ErrorEnd::PositionCommand},
+    .encoder = {.effect = ErrorEffect::Unload, .end = ErrorEnd::TorqueLimitWritten},
+    .hall_sensor = {.effect = ErrorEffect::Unload, .end = ErrorEnd::TorqueLimitWritten}};
+
 // SCS/SCSCL, the row the other FEETECH series start from (no Torque switch 128 in its table).
 // The errors show in every status while they last and in Servo status; Unload condition selects
-// the ones that unload the motor (the Protocol 1.0 Alarm Shutdown). A goal write turns torque on
-// and torque on drives to the goal as it stands (docs/feetech.md "Torque and goals").
+// the ones that act on the motor, each by its rule. A goal write turns torque on and torque on
+// drives to the goal as it stands (docs/feetech.md "Motion").
 constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .name = "scs",
                                .maker = Maker::Feetech,
@@ -200,8 +214,9 @@ constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .torque_on_by_goal = TorqueOnByGoal::Always,
                                .torque_on_goal = TorqueOnGoal::MovesToGoal,
                                .torque_on_by_speed_goal = true,
-                               .error_reaction = ErrorReaction::AlarmShutdown,
+                               .error_reaction = ErrorReaction::Unload,
                                .fault_bits = kScsFaultBits,
+                               .error_rules = kFeetechErrorRules,
                                .reboot_status = false,
                                .operating_modes = kFeetechModes,
                                .mode_change_resets_goals = false,

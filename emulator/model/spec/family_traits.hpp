@@ -77,6 +77,51 @@ enum class ErrorReaction {
   /// in Error Code(153), the last ones kept in Error Code History; only a reboot clears it here
   /// (the Error Clear packet is not emulated). FamilyTraits::error_codes gives the numbers.
   ErrorCode,
+  /// FEETECH Unload condition: the errors are in the error byte of every status and in Servo
+  /// status while they last; each one the shutdown item selects acts on the motor and ends as
+  /// FamilyTraits::error_rules says. No item is rewritten but the torque switch of an error whose
+  /// effect is ErrorEffect::TorqueOff (docs/feetech.md "Status bits").
+  Unload,
+};
+
+/// What a hardware error the shutdown item selects does to the motor (ErrorReaction::Unload).
+enum class ErrorEffect : std::uint8_t {
+  /// The motor gives no torque; the torque item and the torque limit keep their values.
+  Unload,
+  /// The motor gives at most the Holding torque item's share of its full torque.
+  HoldingTorque,
+  /// The torque item goes to 0, again whenever it is switched on while the error lasts.
+  TorqueOff,
+};
+
+/// When a hardware error the shutdown item selects ends (ErrorReaction::Unload). One it does not
+/// select shows while its condition lasts and does nothing else.
+enum class ErrorEnd : std::uint8_t {
+  /// With its condition: its bit and its effect.
+  Condition,
+  /// Once the servo's own protection has tripped, its bit and its effect last until the next
+  /// position command (a Goal position write; in wheel mode, a Running speed write). An injected
+  /// error is not a trip: it lasts while its rule lasts.
+  PositionCommand,
+  /// Its bit with its condition; its effect until the torque limit item is written (the
+  /// Protocol 1.0 Alarm Shutdown's recovery, without zeroing the item).
+  TorqueLimitWritten,
+};
+
+/// What one hardware error does and when it ends (ErrorReaction::Unload).
+struct ErrorRule {
+  ErrorEffect effect = ErrorEffect::Unload;
+  ErrorEnd end = ErrorEnd::Condition;
+};
+
+/// The rule of each hardware error (ErrorReaction::Unload).
+struct ErrorRules {
+  ErrorRule input_voltage;     ///< supply outside the voltage limits
+  ErrorRule overheating;       ///< winding at the temperature limit
+  ErrorRule overload;          ///< the overload protection
+  ErrorRule electrical_shock;  ///< the overcurrent protection
+  ErrorRule encoder;           ///< the position sensor
+  ErrorRule hall_sensor;       ///< the motor's Hall sensor
 };
 
 /// Which models of a family take part in Fast Sync Read and Fast Bulk Read.
@@ -190,6 +235,8 @@ struct FamilyTraits {
   FaultBits fault_bits = {};
   /// The Error Code of each hardware error (ErrorReaction::ErrorCode).
   ErrorCodes error_codes = {};
+  /// What each hardware error does and when it ends (ErrorReaction::Unload).
+  ErrorRules error_rules = {};
   /// Moving Status also reports Moving (bit 2) and Position In Range (bit 6: Present Position
   /// within Min/Max Position Limit), as DYNAMIXEL-Y does; otherwise those bits stay 0.
   bool moving_status_motion_and_range = false;

@@ -1,11 +1,10 @@
 // FEETECH servos on a bus: framing, group instructions, broadcast Ping collisions, reply timing,
-// status bits, Response level, REG WRITE/ACTION, Restart and FEETECH's own instructions
-// (docs/feetech.md "On a bus").
+// Response level, REG WRITE/ACTION, Restart and FEETECH's own instructions (docs/feetech.md
+// "On a bus"; the status bits and protections: feetech_protection_test.cpp).
 #include <catch2/catch.hpp>
 
 #include "app/daemon/bus_state.hpp"
 #include "bus_rig.hpp"
-#include "model/motion/hardware_fault.hpp"
 
 namespace dxlemu {
 namespace {
@@ -45,14 +44,6 @@ std::string status(const bus::LoopbackLink::Delivery& d) {
 std::vector<std::uint8_t> le16(std::int64_t v) {
   const auto u = static_cast<std::uint16_t>(v);
   return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
-}
-
-/// Blocks the servo's shaft (or frees it), at the supply it started with (7.4 V for STS3215,
-/// within its voltage limits).
-void set_blocked(model::Servo& servo, bool blocked) {
-  model::Conditions conditions = servo.motion().conditions();
-  conditions.blocked = blocked;
-  servo.motion().set_conditions(conditions);
 }
 
 }  // namespace
@@ -289,34 +280,6 @@ TEST_CASE("Return delay in 2 us units, SMS counts a value below 50 as 50, HLS ha
   CHECK(reply_after("feetech/hls3625m", std::nullopt) == 0us);
 }
 
-TEST_CASE("FEETECH status bits are the live Servo status of the protection model",
-          "[bus][feetech][faults]") {
-  BusRig rig;
-  sts_bus(rig, 1);
-  model::Servo& servo = *rig.bus.servos()[0];
-  servo.motion().set_injected(model::fault_set(model::HardwareFault::Overheating) |
-                              model::fault_set(model::HardwareFault::Overload));
-  rig.run(10ms);
-  send(rig, 1, wire::Read{65, 1});
-  rig.run();
-  REQUIRE(rig.link.deliveries().size() == 1);
-  // Overheat (4) and overload (32), in the error byte and in Servo status.
-  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x24 params=24");
-  // Both are selected in Unload condition (44 at the factory): the motor is unloaded.
-  CHECK(servo.table().get("torque_limit") == 0);
-  servo.motion().set_injected(0);
-  rig.run(10ms);
-  send(rig, 1, wire::Ping{});
-  rig.run();
-  // The condition is gone, so are its bits; Torque limit stays 0 until it is written (the
-  // Protocol 1.0 Alarm Shutdown rule, which FEETECH's Unload condition follows here).
-  CHECK(status(rig.link.deliveries()[1]) == "id=1 error=0x00");
-  rig.bus.catch_up();
-  CHECK(servo.table().get("torque_limit") == 0);
-  ask(rig, 1, wire::Write{48, le16(1000)});
-  CHECK(servo.table().get("torque_limit") == 1000);
-}
-
 TEST_CASE("An STS3215 moves to its goal: Present = Actual - Position offset",
           "[bus][feetech][motion]") {
   BusRig rig;
@@ -414,75 +377,6 @@ TEST_CASE("FEETECH position mode stops at the angle limits, both 0 lift them",
   CHECK(std::abs(servo.table().get("present_position") - (6000 - 4096)) <= 2);
   ask(rig, 1, wire::Write{18, {12 | 16}});  // full-angle feedback: the turns show
   CHECK(std::abs(servo.table().get("present_position") - 6000) <= 2);
-}
-
-TEST_CASE("FEETECH overload: over Overload torque for Protection time leaves Holding torque",
-          "[bus][feetech][faults][motion]") {
-  BusRig rig;
-  sts_bus(rig, 1);
-  model::Servo& servo = *rig.bus.servos()[0];
-  set_blocked(servo, true);
-  ask(rig, 1, wire::Write{40, {1}});
-  ask(rig, 1, wire::Write{42, le16(3000)});  // the shaft cannot get there: full torque
-  rig.run(1900ms);
-  rig.bus.catch_up();
-  CHECK(servo.table().get("servo_status") == 0);
-  CHECK(servo.table().get("present_load") == 1000);
-  rig.run(200ms);  // past Protection time, 200 x 10 ms
-  send(rig, 1, wire::Read{60, 2});
-  rig.run();
-  CHECK(status(rig.link.deliveries().back()) == "id=1 error=0x20 params=C8 00");  // 20.0 %
-  CHECK(servo.table().get("torque_limit") == 1000);  // held, not unloaded
-  SECTION("the protection ends when Holding torque does the job") {
-    set_blocked(servo, false);
-    rig.run(3s);
-    rig.bus.catch_up();
-    CHECK(servo.table().get("servo_status") == 0);
-    CHECK(std::abs(servo.table().get("present_position") - 3000) <= 2);
-  }
-  SECTION("without the load bit in Unload condition the bit shows and the torque stays") {
-    BusRig other;
-    sts_bus(other, 1);
-    model::Servo& free = *other.bus.servos()[0];
-    set_blocked(free, true);
-    ask(other, 1, wire::Write{19, {12}});  // overheat and current only
-    ask(other, 1, wire::Write{40, {1}});
-    ask(other, 1, wire::Write{42, le16(3000)});
-    other.run(2100ms);
-    other.bus.catch_up();
-    CHECK(free.table().get("servo_status") == 0x20);
-    CHECK(free.table().get("present_load") == 1000);
-  }
-}
-
-TEST_CASE("FEETECH overcurrent: Protection current for its time unloads the motor",
-          "[bus][feetech][faults][motion]") {
-  BusRig rig;
-  sts_bus(rig, 1);
-  model::Servo& servo = *rig.bus.servos()[0];
-  set_blocked(servo, true);
-  ask(rig, 1, wire::Write{55, {0}});
-  ask(rig, 1, wire::Write{28, le16(100)});  // 650 mA
-  ask(rig, 1, wire::Write{38, {50}});       // 500 ms
-  ask(rig, 1, wire::Write{40, {1}});
-  ask(rig, 1, wire::Write{42, le16(3000)});
-  rig.run(450ms);
-  rig.bus.catch_up();
-  CHECK(servo.table().get("servo_status") == 0);
-  rig.run(100ms);
-  rig.bus.catch_up();
-  // Current (8), selected in Unload condition (44): Torque limit goes to 0, and the bit stays
-  // until Torque limit is written, though no current flows any more.
-  CHECK(servo.table().get("servo_status") == 0x08);
-  CHECK(servo.table().get("torque_limit") == 0);
-  rig.run(1s);
-  rig.bus.catch_up();
-  CHECK(servo.table().get("present_current") == 0);
-  CHECK(servo.table().get("servo_status") == 0x08);
-  ask(rig, 1, wire::Write{48, le16(1000)});
-  rig.run(10ms);
-  rig.bus.catch_up();
-  CHECK((servo.table().get("servo_status") & 0x08) == 0);
 }
 
 TEST_CASE("STS Torque switch 128 calibrates Present Position to 2048", "[bus][feetech][motion]") {

@@ -168,7 +168,18 @@ TEST_CASE("The FEETECH series: FEETECH's status bits, mode values, response leve
     const model::FamilyTraits& t = traits_of(family);
     CHECK(t.maker == model::Maker::Feetech);
     CHECK(t.drive == model::DriveKind::OperatingMode);
-    CHECK(t.error_reaction == model::ErrorReaction::AlarmShutdown);
+    CHECK(t.error_reaction == model::ErrorReaction::Unload);
+    // feetech/field-behaviour.md row 7: what each protection does and when it ends.
+    const model::ErrorRules& r = t.error_rules;
+    CHECK((r.overload.effect == model::ErrorEffect::HoldingTorque &&
+           r.overload.end == model::ErrorEnd::PositionCommand));
+    CHECK((r.electrical_shock.effect == model::ErrorEffect::Unload &&
+           r.electrical_shock.end == model::ErrorEnd::PositionCommand));
+    CHECK((r.input_voltage.effect == model::ErrorEffect::Unload &&
+           r.input_voltage.end == model::ErrorEnd::Condition));
+    CHECK((r.overheating.effect == model::ErrorEffect::TorqueOff &&
+           r.overheating.end == model::ErrorEnd::Condition));
+    CHECK(r.encoder.end == model::ErrorEnd::TorqueLimitWritten);
     CHECK_FALSE(t.reboot_status);  // Restart: "status frame: none"
     CHECK(t.operating_modes.position == 0);
     CHECK(t.operating_modes.velocity == 1);
