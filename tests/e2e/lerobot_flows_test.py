@@ -21,10 +21,11 @@ back, SYNC READ of Present_Position and SYNC WRITE of Goal_Position.
    writing Goal = Present before torque on keeps it still.
 
 The person who moves the joints is the control API: with the torque off, `set` of
-`present_position` turns a shaft by hand to where it reads that value (on a single-turn servo to
-the nearest such place, so small steps cross the seam the way the hand goes). The daemon runs
-under manual timing: replies go out at once, and the servos and the hand move only when the test
-steps the clock.
+`present_position` turns a shaft by hand to where it reads that value, a small step at a time
+(`Hands`: on a single-turn servo the value 4100 is the angle 4, reached the short way, so the
+steps cross the seam the way the hand goes, and only the servo wraps what it reads). The daemon
+runs under manual timing: replies go out at once, and the servos and the hand move only when the
+test steps the clock.
 """
 from __future__ import annotations
 
@@ -33,7 +34,7 @@ import json
 import os
 import tempfile
 import unittest
-from typing import Callable, Iterable, Iterator, NamedTuple
+from typing import Iterable, Iterator, NamedTuple
 
 from dxl_client import Control, Daemon, assert_unanswered, timeout_scale
 from dxlemu import feetech
@@ -163,8 +164,8 @@ class LeRobotBus:
             model = self.read(ident, MODEL_NUMBER, 2)
             if model != STS3215:
                 raise BusError(f"motor {ident} is model {model}, not the sts3215 (777) expected")
-        firmware = {ident: (self.read(ident, FIRMWARE_MAJOR, 1), self.read(ident, FIRMWARE_MINOR, 1))
-                    for ident in self.ids}
+        firmware = {ident: (self.read(ident, FIRMWARE_MAJOR, 1),
+                            self.read(ident, FIRMWARE_MINOR, 1)) for ident in self.ids}
         if len(set(firmware.values())) != 1:
             raise BusError(f"motors of different firmware: {firmware}")
         return firmware[self.ids[0]]
@@ -267,9 +268,10 @@ class LeRobotBus:
 class Hands:
     """A person turning shafts with the torque off, through the control API: a `set` of
     `present_position` puts the shaft where it reads the value given, then the clock moves on
-    a little. A turn is made of steps of at most HAND_STEP; on a single-turn servo each step's
-    reading wraps at 0 and 4095, and dxlemu moves the shaft the short way to it, which is the
-    way the hand goes."""
+    a little. A turn is made of steps of at most HAND_STEP, each asking for the reading plus
+    the step: on a single-turn servo dxlemu takes a value past 4095 or below 0 as the angle it
+    names and moves the shaft the short way to it, the way the hand goes, and the reading that
+    comes back wraps, or not, as the servo's feedback does (never the hand's arithmetic)."""
 
     def __init__(self, control: Control, port_name: str):
         self.control = control
@@ -281,13 +283,11 @@ class Hands:
     def turn(self, servo: int, steps: int) -> Iterator[None]:
         """Turns `servo` by `steps` encoder steps (positive: towards higher readings), yielding
         after each small step, while LeRobot may read."""
-        single_turn = not self.control.get(servo, "phase", port=self.port_name) & FULL_ANGLE
         moved = 0
         while moved != steps:
             step = max(-HAND_STEP, min(HAND_STEP, steps - moved))
-            target = self.reading(servo) + step
-            self.control.set(servo, "present_position",
-                             target % RESOLUTION if single_turn else target, port=self.port_name)
+            self.control.set(servo, "present_position", self.reading(servo) + step,
+                             port=self.port_name)
             self.control.clock_step(ms=STEP_MS)
             moved += step
             yield
