@@ -34,6 +34,7 @@ set(DXLEMU_TEST_COSTS
   e2e.feetech_session 0.6
   e2e.firmware 0.4
   e2e.late_replies 2.4
+  e2e.lerobot_flows 4.0
   e2e.pcap_dissector 3.6
   e2e.physics 0.5
   e2e.robot_startup 2.0
