@@ -178,10 +178,11 @@ constexpr std::int64_t kSmsMinReturnDelay = 50;
 // FEETECH's status error byte is the servo status (protocol-ft-scs.md: "If ERROR is 0, the
 // servo has no alarm information"): it has no checksum, instruction or range bit, so a servo
 // cannot say "no" with it. What it cannot make sense of (a bad checksum, an unknown or malformed
-// instruction) and a read whose data it cannot send get no reply, as a client of a real STS3215
-// meets them ("There is no status packet!"; feetech/field-behaviour.md row 8, inferred). A write
-// it refuses is acknowledged with error 0 (row 6: LeRobot's write of read-only address 85
-// succeeds on every SO-101). docs/feetech.md "Refusals".
+// instruction) and a read whose data it cannot send get no reply, which FEETECH's SDK reports as
+// "There is no status packet!" (feetech/field-behaviour.md row 8, inferred). A write it refuses
+// is acknowledged with error 0 (row 6, inferred: LeRobot raises on a missing reply or an error
+// bit, yet its write of read-only address 85 succeeds on every SO-101). docs/feetech.md
+// "Refusals".
 constexpr Refusals kFeetechRefusals = {.checksum = wire::kSilentRefusal,
                                        .instruction = wire::kSilentRefusal,
                                        .read = wire::kSilentRefusal,
