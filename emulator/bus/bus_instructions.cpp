@@ -87,14 +87,12 @@ void Bus::group_read(const Packet& packet) {
       return !servo.replies_to(true) || (request.fast && !servo.supports_fast_read()) ||
              (request.v1_bulk && !servo.supports_v1_bulk_read());
     });
-    // Each device waits for the status of the one before it (protocol1.md "Bulk Read"): when a
-    // listed device does not answer, the ones after it wait in vain and stay silent.
-    if (matches.empty()) {
-      break;
-    }
-    ReplyGroup& out = answered.emplace_back();
+    ReplyGroup out;
     for (const Listener* l : matches) {  // servos sharing the ID all answer, and collide
       model::ServoResponse r = l->node->servo->read_part(part.address, part.length);
+      if (!r.replies) {
+        continue;  // a refusal it answers with silence (FEETECH: a read outside the table)
+      }
       if (request.fast) {
         r.params.resize(part.length, 0);  // a failed read still fills its block (docs/bus.md)
         out.push_back({l->node, std::move(r), {}, l->hearing.extra_delay});
@@ -102,6 +100,12 @@ void Bus::group_read(const Packet& packet) {
         out.push_back(reply_of(*l, std::move(r)));
       }
     }
+    // Each device waits for the status of the one before it (protocol1.md "Bulk Read"): when a
+    // listed device does not answer, the ones after it wait in vain and stay silent.
+    if (out.empty()) {
+      break;
+    }
+    answered.push_back(std::move(out));
   }
   if (answered.empty()) {
     return;

@@ -117,30 +117,37 @@ void Servo::commit_deferred() {
   return_delay_ = microseconds(delay * spec().return_delay_unit_us);
 }
 
-std::uint8_t Servo::status_error(wire::Outcome outcome) const {
-  // The protocol's status vocabulary (wire/protocol_table.hpp) turns the outcome into its error
-  // byte; what the device adds to every status is its standing faults: 2.0's alert bit while
-  // Hardware Error Status is not 0, 1.0's hardware error bits (Input Voltage, Overheating,
-  // Overload: protocol1.md "Status Packet"), FEETECH's live Servo status, and the bits a FEETECH
-  // model file names for its refusals.
+wire::DeviceFaults Servo::device_faults() const {
+  // What the device adds to every status: 2.0's alert bit while Hardware Error Status is not 0,
+  // 1.0's hardware error bits (Input Voltage, Overheating, Overload: protocol1.md "Status
+  // Packet"), FEETECH's live Servo status, and what a FEETECH model answers to its refusals.
   const auto& hw = items_.hardware_error_status;
-  const RefusalBits refusals = spec().refusals();
+  const Refusals refusals = spec().refusals();
   wire::DeviceFaults device;
   device.alert = hw && table_.get(*hw) != 0;
   device.status_bits = motion_.v1_error_bits();
-  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Range)] = refusals.range;
-  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Instruction)] =
-      refusals.instruction;
-  device.refusal_bits[static_cast<std::size_t>(wire::RefusalClass::Checksum)] = refusals.checksum;
-  return wire::status_error_byte(protocol_.value_or(wire::kDefaultProtocol), outcome, device);
+  for (std::size_t c = 0; c < wire::kRefusalClassCount; ++c) {
+    device.refusals[c] = refusals.of(static_cast<wire::RefusalClass>(c));
+  }
+  return device;
 }
 
-std::uint8_t Servo::error_byte(TableError error) const {
-  return status_error(outcome_of(error));
+std::uint8_t Servo::status_error(wire::Outcome outcome) const {
+  // The protocol's status vocabulary (wire/protocol_table.hpp) turns the outcome into its error
+  // byte, with the device's standing faults.
+  return wire::status_error_byte(protocol_.value_or(wire::kDefaultProtocol), outcome,
+                                 device_faults());
 }
 
-std::uint8_t Servo::instruction_error() const {
-  return status_error(wire::Outcome::UnknownInstruction);
+ServoResponse Servo::respond(wire::Outcome outcome, sim::SimDuration processing) const {
+  const wire::Protocol protocol = protocol_.value_or(wire::kDefaultProtocol);
+  const wire::DeviceFaults device = device_faults();
+  ServoResponse r;
+  // A refusal the device has no way to say (FEETECH's error byte is its status) may be silence.
+  r.replies = !wire::silences(protocol, outcome, device);
+  r.error = wire::status_error_byte(protocol, outcome, device);
+  r.processing = processing;
+  return r;
 }
 
 bool Servo::supports_fast_read() const {
@@ -153,12 +160,11 @@ bool Servo::supports_v1_bulk_read() const {
 }
 
 ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
-  ServoResponse r;
+  ServoResponse r = respond(wire::Outcome::BadCheck, write_time(0));
   const bool answers =
       wire::traits(protocol_.value_or(wire::kDefaultProtocol)).status.answers_bad_check;
-  r.replies = answers && replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
-  r.processing = write_time(0);
-  r.error = status_error(wire::Outcome::BadCheck);
+  r.replies =
+      r.replies && answers && replies_to(instruction == wire::to_byte(wire::InstructionCode::Read));
   return r;
 }
 
@@ -177,11 +183,7 @@ sim::SimDuration Servo::write_time(std::size_t bytes) const {
 }
 
 ServoResponse Servo::from_table(const TableResult& result, sim::SimDuration processing) const {
-  ServoResponse r;
-  r.replies = true;
-  r.error = error_byte(result.error);
-  r.processing = processing;
-  return r;
+  return respond(outcome_of(result.error), processing);
 }
 
 ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing addressing) {
@@ -204,7 +206,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           // Ping is answered whatever the Status Return Level, broadcast too (protocol2.md "Ping").
           ServoResponse ping;
           ping.replies = true;
-          ping.error = error_byte(TableError::None);
+          ping.error = status_error(wire::Outcome::Ok);
           ping.processing = microseconds(timing.ping_us);
           if (wire::traits(packet.protocol).ping_reports_model) {
             ping.params = {static_cast<std::uint8_t>(spec().model_number & 0xFF),
@@ -233,9 +235,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
         } else if constexpr (std::is_same_v<T, wire::Action>) {
           if (!registered_) {
             // protocol2.md "Error": Instruction Error when Action comes without Reg Write.
-            ServoResponse refused = from_table({}, write_time(0));
-            refused.error = instruction_error();
-            return refused;
+            return respond(wire::Outcome::NothingRegistered, write_time(0));
           }
           const Registered pending = std::move(*registered_);
           registered_.reset();
@@ -248,11 +248,10 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
         } else if constexpr (std::is_same_v<T, wire::FactoryReset>) {
           return do_factory_reset(ins.option, broadcast);
         } else if constexpr (std::is_same_v<T, wire::Reboot>) {
-          ServoResponse reboot = from_table({}, write_time(0));
           if (!spec().traits().reboot) {
-            reboot.error = instruction_error();
-            return reboot;
+            return respond(wire::Outcome::UnknownInstruction, write_time(0));
           }
+          ServoResponse reboot = from_table({}, write_time(0));
           reboot.reboot_after = true;
           // FEETECH Restart: "status frame: none".
           reboot.replies = spec().traits().reboot_status;
@@ -264,9 +263,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
         } else if constexpr (kIsFeetechOnly<T>) {
           return execute_feetech(ins);
         } else if constexpr (std::is_same_v<T, wire::UnknownInstruction>) {
-          ServoResponse unknown = from_table({}, write_time(0));
-          unknown.error = instruction_error();
-          return unknown;
+          return respond(wire::Outcome::UnknownInstruction, write_time(0));
         } else {
           // Sync/Bulk instructions address several servos: the bus splits them into
           // read_part/write_part calls, so a servo never executes them whole.
@@ -328,29 +325,30 @@ void Servo::expire_bus_watchdog() {
 }
 
 ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {
-  ServoResponse r;
   const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
-  r.replies = !broadcast && replies_to(is_read);
-  r.processing = write_time(0);
-  r.error =
-      status_error(error.kind == wire::DecodeErrorKind::BadValue ? wire::Outcome::DataRange
-                                                                 : wire::Outcome::BadParameters);
+  ServoResponse r =
+      respond(error.kind == wire::DecodeErrorKind::BadValue ? wire::Outcome::DataRange
+                                                            : wire::Outcome::BadParameters,
+              write_time(0));
+  r.replies = r.replies && !broadcast && replies_to(is_read);
   return r;
 }
 
 ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
-  ServoResponse r;
-  r.replies = true;
-  r.processing = microseconds(spec().timing.read_us);
+  const microseconds processing(spec().timing.read_us);
   // More data than a 1.0 status can carry (an X in 1.0 mode has a table long enough to read it):
   // no status could answer with it, so it is refused as "out of the range for use" (protocol1.md
   // "Range Error"), like a read past the table.
   if (protocol_ && wire::has_v1_layout(*protocol_) && length > kV1MaxStatusParams) {
-    r.error = error_byte(TableError::DataRange);
-    return r;
+    return respond(wire::Outcome::ReadOutside, processing);
   }
-  const TableResult result = table_.bus_read(address, length, r.params);
-  r.error = error_byte(result.error);
+  std::vector<std::uint8_t> data;
+  const TableResult result = table_.bus_read(address, length, data);
+  // Every read the table refuses reaches outside it: past its end, or (Indirect Address) an
+  // address it does not have.
+  ServoResponse r =
+      respond(result.ok() ? wire::Outcome::Ok : wire::Outcome::ReadOutside, processing);
+  r.params = std::move(data);
   return r;
 }
 
@@ -386,10 +384,8 @@ ServoResponse Servo::do_factory_reset(std::uint8_t option, bool broadcast) {
 }
 
 ServoResponse Servo::do_clear(const wire::Clear& clear) {
-  ServoResponse r = from_table({}, write_time(0));
   if (clear.option != kClearMultiTurn) {
-    r.error = status_error(wire::Outcome::DataRange);  // reserved options
-    return r;
+    return respond(wire::Outcome::DataRange, write_time(0));  // reserved options
   }
   // "The Clear instruction can only be executed when the DYNAMIXEL is stopped" (protocol2.md).
   // DYNAMIXEL-Y has no Moving item: its Moving Status says so (bit 2).
@@ -398,33 +394,29 @@ ServoResponse Servo::do_clear(const wire::Clear& clear) {
   const bool y_moving = !moving && status && spec().traits().moving_status_motion_and_range &&
                         (table_.get(*status) & kMovingStatusMoving) != 0;
   if ((moving && table_.get(*moving) != 0) || y_moving) {
-    r.error = status_error(wire::Outcome::ResultFail);
-    return r;
+    return respond(wire::Outcome::ResultFail, write_time(0));
   }
   // Back to an absolute position within one rotation (0 ~ 4095 on X).
   motion_.clear_turns();
-  return r;
+  return from_table({}, write_time(0));
 }
 
 ServoResponse Servo::do_backup(const wire::ControlTableBackup& backup) {
-  ServoResponse r = from_table({}, write_time(0));
   // Models with Backup Ready support the instruction (X430/540 fw 45+, X330 fw 46+, P fw 12+).
   const auto ready = item({"backup_ready"});
   if (!ready) {
-    r.error = instruction_error();
-    return r;
+    return respond(wire::Outcome::UnknownInstruction, write_time(0));
   }
   if (backup.option != kBackupStore && backup.option != kBackupRestore) {
-    r.error = status_error(wire::Outcome::DataRange);  // reserved options
-    return r;
+    return respond(wire::Outcome::DataRange, write_time(0));  // reserved options
   }
   // "If Torque Enable is set to '1' (Torque On), a Status Packet with Result Fail will be
   // returned."
   if (table_.get("torque_enable") != 0 ||
       (backup.option == kBackupRestore && !backup_.has_value())) {
-    r.error = status_error(wire::Outcome::ResultFail);
-    return r;
+    return respond(wire::Outcome::ResultFail, write_time(0));
   }
+  ServoResponse r = from_table({}, write_time(0));
   if (backup.option == kBackupStore) {
     backup_ = std::vector<std::uint8_t>(table_.bytes().begin(), table_.bytes().end());
     table_.set(*ready, 1);

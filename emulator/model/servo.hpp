@@ -87,12 +87,12 @@ class Servo {
   void expire_bus_watchdog();
 
   /// The answer to an instruction whose parameters could not be decoded (error status, unless
-  /// broadcast or suppressed by Status Return Level).
+  /// broadcast, suppressed by Status Return Level, or a refusal the model answers with silence).
   ServoResponse refuse(const wire::DecodeError& error, bool broadcast) const;
 
   /// The answer to an instruction packet with a wrong CRC (2.0: CRC Error) or checksum (1.0:
-  /// Checksum Error bit), sent to this servo's ID; `instruction` is the unverified instruction
-  /// byte.
+  /// Checksum Error bit; FEETECH: silence by default), sent to this servo's ID; `instruction` is
+  /// the unverified instruction byte.
   ServoResponse bad_check(std::optional<std::uint8_t> instruction) const;
 
   /// True when Status Return Level lets the servo answer a read (`is_read`) or anything else.
@@ -105,7 +105,9 @@ class Servo {
   /// True for the models that execute the Protocol 1.0 Bulk Read (protocol1.md: MX, MX(2.0), X).
   bool supports_v1_bulk_read() const;
 
-  /// This servo's part of a Sync/Bulk Read (or Fast): its data, or an error and no data.
+  /// This servo's part of a Sync/Bulk Read (or Fast), and a Read's: its data, or an error and no
+  /// data, or (`replies` false) no status at all where the model answers a read outside its
+  /// table with silence.
   ServoResponse read_part(std::uint16_t address, std::uint16_t length);
 
   /// This servo's part of a Sync/Bulk Write: applied like a Write, never answered.
@@ -143,9 +145,11 @@ class Servo {
   bool defers(std::size_t item_index) const;
 
  private:
+  wire::DeviceFaults device_faults() const;
   std::uint8_t status_error(wire::Outcome outcome) const;
-  std::uint8_t error_byte(TableError error) const;
-  std::uint8_t instruction_error() const;
+  /// The answer of `outcome`: its status error byte, or no status where the servo answers that
+  /// refusal with silence (a FEETECH model's refusals).
+  ServoResponse respond(wire::Outcome outcome, sim::SimDuration processing) const;
   ServoResponse from_table(const TableResult& result, sim::SimDuration processing) const;
   ServoResponse do_factory_reset(std::uint8_t option, bool broadcast);
   ServoResponse execute_secondary(const wire::InstructionPacket& packet);

@@ -23,23 +23,20 @@ ServoResponse Servo::execute_feetech(const wire::StatusReset& /*reset*/) {
 }
 
 ServoResponse Servo::execute_feetech(const wire::ParameterBackup& /*backup*/) {
-  ServoResponse r = from_table({}, write_time(0));
   // "Unlock the eprom parameters before backing up": while locked nothing is stored, and the
-  // status says so with the refusal bit (none unless the model file sets one).
+  // status says so as a refused write does (no bit unless the model file sets one).
   if (!feetech_eeprom_unlocked()) {
-    r.error = error_byte(TableError::Access);
-    return r;
+    return respond(wire::Outcome::Access, write_time(0));
   }
   parameter_backup_ = std::vector<std::uint8_t>(table_.bytes().begin(), table_.bytes().end());
-  return r;
+  return from_table({}, write_time(0));
 }
 
 ServoResponse Servo::execute_feetech(const wire::ParameterRecovery& /*recovery*/) {
-  ServoResponse r = from_table({}, write_time(0));
   if (!feetech_eeprom_unlocked()) {
-    r.error = error_byte(TableError::Access);
-    return r;
+    return respond(wire::Outcome::Access, write_time(0));
   }
+  ServoResponse r = from_table({}, write_time(0));
   // "Restore all servo parameters except the ID": the writable EEPROM items from the backup, or
   // from the factory values when nothing was backed up. A new baud rate applies after the status.
   for (std::size_t i = 0; i < spec().items.size(); ++i) {
@@ -58,19 +55,16 @@ ServoResponse Servo::execute_feetech(const wire::ParameterRecovery& /*recovery*/
 }
 
 ServoResponse Servo::execute_feetech(const wire::PositionCalibration& calibration) {
-  ServoResponse r = from_table({}, write_time(0));
-  // Only the models with a Position offset can calibrate (not SCS/SCSCL).
+  // Only the models with a Position offset can calibrate (not SCS/SCSCL): to the others 0x0B is
+  // an instruction their firmware does not have, refused as any unknown one.
   if (!spec().index_of(kPositionOffset)) {
-    r.error = instruction_error();
-    return r;
+    return respond(wire::Outcome::UnknownInstruction, write_time(0));
   }
   // No value: "calibrated to the middle position". A value the offset cannot reach changes
-  // nothing and is refused with the range bit (none unless the model file sets one).
-  if (!motion_.calibrate_position(calibration.position.value_or(
-          static_cast<std::uint16_t>(spec().traits().calibrated_position)))) {
-    r.error = error_byte(TableError::DataRange);
-  }
-  return r;
+  // nothing and is refused as a value out of range is (no bit unless the model file sets one).
+  const bool calibrated = motion_.calibrate_position(calibration.position.value_or(
+      static_cast<std::uint16_t>(spec().traits().calibrated_position)));
+  return respond(calibrated ? wire::Outcome::Ok : wire::Outcome::DataRange, write_time(0));
 }
 
 }  // namespace dxlemu::model

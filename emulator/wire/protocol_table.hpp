@@ -89,10 +89,14 @@ enum class Outcome : std::uint8_t {
   UnknownInstruction,  ///< an instruction byte the servo does not execute
   BadCheck,            ///< the checksum or CRC did not match
   BadParameters,       ///< parameters that do not make the instruction (wrong count)
+  /// A Read, or a device's part of a Sync/Bulk Read, reaching outside the table (past its end,
+  /// in whole or in part) or asking more than a status can carry.
+  ReadOutside,
+  NothingRegistered,  ///< Action with no Reg Write waiting
 };
 
 /// Number of Outcome values.
-inline constexpr std::size_t kOutcomeCount = 10;
+inline constexpr std::size_t kOutcomeCount = 12;
 
 /// How a protocol's status carries an outcome.
 enum class StatusShape : std::uint8_t {
@@ -101,15 +105,36 @@ enum class StatusShape : std::uint8_t {
   /// 1.0: one bit per kind of error; the device's hardware error bits are ORed in.
   ErrorBits,
   /// FEETECH: the device's status item; a refusal adds the bit the model file names for its
-  /// RefusalClass (codes are RefusalClass values).
+  /// RefusalClass, or silences the status (codes are RefusalClass values).
   DeviceStatus,
   /// Modbus RTU: a refusal is an exception response (function | 0x80, exception code) and no
   /// error byte rides on a normal response (codes are exception codes, 0: a normal response).
   ExceptionCode,
 };
 
-/// For StatusShape::DeviceStatus: which of the model's refusal bits an outcome sets.
-enum class RefusalClass : std::uint8_t { None, Range, Instruction, Checksum };
+/// For StatusShape::DeviceStatus: which of the model's refusal answers an outcome gets. None: it
+/// is no refusal there, only the live status is sent.
+enum class RefusalClass : std::uint8_t {
+  None,
+  Range,        ///< a write, or an instruction's setting, the device refuses
+  Instruction,  ///< an instruction the device does not know, or cannot make out
+  Checksum,     ///< a packet with a broken check, sent to the device's ID
+  Read,         ///< a read outside the table (Outcome::ReadOutside)
+};
+
+/// Number of RefusalClass values.
+inline constexpr std::size_t kRefusalClassCount = 5;
+
+/// What a StatusShape::DeviceStatus device does about one class of refusal: a status whose
+/// error byte carries `bit` (0: none) beside the live status, or, when `silent`, no status.
+struct RefusalAnswer {
+  bool silent = false;
+  std::uint8_t bit = 0;
+  constexpr bool operator==(const RefusalAnswer&) const = default;
+};
+
+/// The answer that sends no status.
+inline constexpr RefusalAnswer kSilentRefusal{.silent = true, .bit = 0};
 
 /// A protocol's status vocabulary: how each Outcome becomes its error code.
 struct StatusVocabulary {
@@ -126,7 +151,8 @@ struct StatusVocabulary {
 struct DeviceFaults {
   bool alert = false;            ///< ErrorNumber: a hardware error is latched
   std::uint8_t status_bits = 0;  ///< ErrorBits, DeviceStatus: the live hardware/status bits
-  std::array<std::uint8_t, 4> refusal_bits{};  ///< DeviceStatus: bit per RefusalClass
+  /// DeviceStatus: the answer per RefusalClass (indexed by its value).
+  std::array<RefusalAnswer, kRefusalClassCount> refusals{};
 };
 
 /// Everything about one protocol.
@@ -275,7 +301,9 @@ inline constexpr std::array kProtocolTable{
                                   {Outcome::ResultFail, detail::bit(3)},
                                   {Outcome::UnknownInstruction, detail::bit(6)},
                                   {Outcome::BadCheck, detail::bit(4)},
-                                  {Outcome::BadParameters, detail::bit(6)}}),
+                                  {Outcome::BadParameters, detail::bit(6)},
+                                  {Outcome::ReadOutside, detail::bit(3)},
+                                  {Outcome::NothingRegistered, detail::bit(6)}}),
                    0, true},
         .bulk_read_needs_support = true,
     },
@@ -302,17 +330,20 @@ inline constexpr std::array kProtocolTable{
         .max_unicast_id = kMaxIdV2,
         .instructions = kDynamixelInstructions,
         // protocol2.md "Error": error numbers; an Angle Limit refusal is a Data Limit Error;
-        // parameters that do not make the instruction are a Data Length Error.
+        // parameters that do not make the instruction are a Data Length Error; a read outside
+        // the table is an Access Error, Action without Reg Write an Instruction Error.
         .status = {StatusShape::ErrorNumber,
                    detail::codes({{Outcome::ResultFail, 0x01},
                                   {Outcome::UnknownInstruction, 0x02},
+                                  {Outcome::NothingRegistered, 0x02},
                                   {Outcome::BadCheck, 0x03},
                                   {Outcome::DataRange, 0x04},
                                   {Outcome::DataLength, 0x05},
                                   {Outcome::BadParameters, 0x05},
                                   {Outcome::DataLimit, 0x06},
                                   {Outcome::AngleLimit, 0x06},
-                                  {Outcome::Access, 0x07}}),
+                                  {Outcome::Access, 0x07},
+                                  {Outcome::ReadOutside, 0x07}}),
                    0x80, true},
         .chained_broadcast_ping = true,
         .ping_reports_model = true,
@@ -330,7 +361,9 @@ inline constexpr std::array kProtocolTable{
         .max_unicast_id = kMaxIdFeetech,
         .instructions = kFeetechInstructions,
         // The error byte mirrors the Servo status item; FEETECH documents no refusal bits, so a
-        // model file names the bit each class of refusal sets, if any (docs/feetech.md).
+        // model file says what each class of refusal gets: a bit, none, or no status at all
+        // (docs/feetech.md "Refusals"). Action with nothing registered is no refusal: it applies
+        // nothing and is answered as any Action.
         .status = {StatusShape::DeviceStatus,
                    detail::codes(
                        {{Outcome::Access, detail::refusal(RefusalClass::Range)},
@@ -341,7 +374,9 @@ inline constexpr std::array kProtocolTable{
                         {Outcome::ResultFail, detail::refusal(RefusalClass::Range)},
                         {Outcome::UnknownInstruction, detail::refusal(RefusalClass::Instruction)},
                         {Outcome::BadCheck, detail::refusal(RefusalClass::Checksum)},
-                        {Outcome::BadParameters, detail::refusal(RefusalClass::Instruction)}}),
+                        {Outcome::BadParameters, detail::refusal(RefusalClass::Instruction)},
+                        {Outcome::ReadOutside, detail::refusal(RefusalClass::Read)},
+                        {Outcome::NothingRegistered, detail::refusal(RefusalClass::None)}}),
                    0, true},
     },
 };
@@ -439,11 +474,19 @@ constexpr std::uint8_t status_error_byte(Protocol protocol, Outcome outcome,
     case StatusShape::ErrorBits:
       return static_cast<std::uint8_t>(code | device.status_bits);
     case StatusShape::DeviceStatus:
-      return static_cast<std::uint8_t>(device.refusal_bits[code] | device.status_bits);
+      return static_cast<std::uint8_t>(device.refusals[code].bit | device.status_bits);
     case StatusShape::ExceptionCode:
       return code;
   }
   return code;
+}
+
+/// True when the device sends no status at all for `outcome` in `protocol` (a DeviceStatus
+/// refusal class it answers with silence); the other shapes always answer.
+constexpr bool silences(Protocol protocol, Outcome outcome, const DeviceFaults& device) {
+  const StatusVocabulary& v = traits(protocol).status;
+  return v.shape == StatusShape::DeviceStatus &&
+         device.refusals[v.code[static_cast<std::size_t>(outcome)]].silent;
 }
 
 }  // namespace dxlemu::wire

@@ -8,7 +8,9 @@ numbers (address 3, 2 bytes = 777), calibrate (Torque 0, Lock 0, Homing_Offset, 
 limits), Return delay 0, torque on (Torque 1, Lock 1), SYNC WRITE Goal_Position (42, 2 bytes),
 SYNC READ Present_Position (56, 2 bytes) until every servo has arrived at its goal minus its
 homing offset, then a hardware fault injected through the control API, seen in the status error
-byte and in Servo status (65).
+byte and in Servo status (65). Refusals (docs/feetech.md "Refusals"): a bad checksum, an unknown
+instruction and a read past the table get no status, which the SDK reports as "There is no status
+packet!"; LeRobot's write of 254 to read-only Maximum_Acceleration (85) is acknowledged with 0.
 
 The daemon runs under manual timing: replies go out at once, and the moves, the fault's
 detection and the scenario's timeline wait for the test to step the clock.
@@ -28,6 +30,8 @@ IDS = [1, 2, 3, 4, 5, 6]
 # The STS memory table (feetech/sts3215.md).
 MODEL_NUMBER, MIN_LIMIT, MAX_LIMIT, RETURN_DELAY = 3, 9, 11, 7
 HOMING_OFFSET, TORQUE, GOAL, LOCK, PRESENT, STATUS = 31, 40, 42, 55, 56, 65
+MAX_ACCELERATION = 85  # LeRobot's name; read-only in FEETECH's table
+TABLE_SIZE = 87  # the STS table ends at 86
 STS3215 = 777
 OVERHEAT = 0x04  # Servo status bit 2 (FTServo_Python ERRBIT_OVERHEAT)
 OVERLOAD = 0x20  # Servo status bit 5 (ERRBIT_OVERLOAD)
@@ -112,6 +116,16 @@ class FeetechSessionTest(unittest.TestCase):
             self.assertEqual(int.from_bytes(self.read(ident, MODEL_NUMBER, 2), "little"), STS3215)
         # Nobody at ID 7: silence.
         assert_unanswered(self.control, self.port, frame(7, PING))
+        # What the servo cannot say "no" to with its error byte gets no status at all.
+        damaged = bytearray(frame(1, READ, bytes([PRESENT, 2])))
+        damaged[-1] ^= 0x01
+        assert_unanswered(self.control, self.port, bytes(damaged))
+        assert_unanswered(self.control, self.port, frame(1, 0x92))
+        assert_unanswered(self.control, self.port, frame(1, READ, bytes([TABLE_SIZE - 1, 2])))
+        # A write it refuses is acknowledged, and changes nothing.
+        limit = self.read(1, MAX_ACCELERATION, 1)
+        self.write(1, MAX_ACCELERATION, bytes([254]))
+        self.assertEqual(self.read(1, MAX_ACCELERATION, 1), limit)
         # Six servos answer a broadcast ping at once: one 6-byte packet whose bytes collided
         # (the wired AND of the six), with a checksum that does not match.
         self.port.write(frame(BROADCAST, PING))

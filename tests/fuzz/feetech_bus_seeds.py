@@ -60,6 +60,13 @@ def main():
     seed('baud_500000', [pkt(6,PING), pkt(6,READ,56,2), pkt(BC,PING), pkt(1,PING)], rate=1)
     seed('baud_change', [pkt(1,WRITE,6,1), pkt(1,PING)], rate=0)
     seed('broadcast_id_write_collides', [pkt(BC,WRITE,5,1), pkt(1,PING), pkt(1,READ,56,2), pkt(BC,SREAD,56,2,1), pkt(1,WRITE,42,0,8)])
+    # docs/feetech.md "Refusals": silence to a bad checksum, an unknown or malformed instruction
+    # and a read past the table (SCS0009's ends at 83, the others' at 86), in a SYNC READ too
+    # (ID 3 stops the chain); an acknowledgement to a write of read-only 85 and a READ of 0 bytes.
+    bad5=pkt(1,PING); bad5[-1]^=4
+    seed('refusals_silent_or_acknowledged', [bad5, pkt(1,0x30,1), pkt(1,READ,56), pkt(1,READ,86,2), pkt(3,READ,84,1),
+         pkt(1,READ,0,0), pkt(1,WRITE,85,254), pkt(BC,SREAD,84,2,1,3,4), pkt(BC,SREAD,86,2,4,5), pkt(1,ACTION),
+         pkt(3,CALIB), pkt(1,PING)])
     seed('calibration_out_of_reach', [pkt(5,CALIB,0x07,0xFF), pkt(5,READ,31,2), pkt(1,CALIB,0,0), pkt(1,READ,31,2),
          pkt(4,CALIB,0xFF,0xFF), pkt(4,WRITE,40,128), pkt(4,READ,56,2)])
 

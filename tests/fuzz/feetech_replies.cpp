@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <variant>
 
 #include "fuzz_require.hpp"
@@ -15,12 +16,6 @@ namespace dxlemu::fuzz {
 namespace {
 
 using wire::FeetechInstructionCode;
-
-// The refusal bits of docs/feetech.md "Refusals" (every shipped FEETECH model keeps its family's):
-// Protocol 1.0's Checksum and Instruction bits, which FEETECH leaves undefined; range refusals set
-// no bit.
-constexpr std::uint8_t kChecksumBit = 0x10;
-constexpr std::uint8_t kInstructionBit = 0x40;
 
 // docs/feetech.md "Response level": level 0 answers READ, PING and SYNC READ only.
 constexpr std::string_view kResponseLevelKey = "response_status_level";
@@ -43,6 +38,18 @@ std::uint8_t protection_bits(const model::Servo& servo) {
 bool answers_everything(const model::Servo& servo) {
   const auto level = servo.spec().index_of(kResponseLevelKey);
   return !level || servo.table().get(*level) != 0;
+}
+
+// docs/feetech.md "Refusals" (every shipped FEETECH model keeps its family's answers): a read
+// reaching past the model's last item gets no status, whole or in part.
+bool within_table(const model::Servo& servo, std::uint16_t address, std::uint16_t length) {
+  return std::size_t{address} + length <= servo.spec().table_size();
+}
+
+// Position calibration is an instruction of the models with a Position offset only; to the
+// others (SCS) it is unknown, and unknown instructions get no status.
+bool calibrates(const model::Servo& servo) {
+  return servo.spec().index_of("position_offset").has_value();
 }
 
 // The packet `bytes` holds when it is exactly one FEETECH status, nothing before or after it.
@@ -70,8 +77,6 @@ std::optional<wire::StatusPacket> one_status(std::span<const std::uint8_t> bytes
 void FeetechReplies::heard(const wire::FramerEvent& event, const bus::Bus& bus) {
   answers_.clear();
   next_ = 0;
-  bad_check_ = false;
-  instruction_bit_ = false;
   protection_bits_.clear();
   for (const auto& servo : bus.servos()) {
     protection_bits_[servo->id()] |= protection_bits(*servo);
@@ -81,27 +86,15 @@ void FeetechReplies::heard(const wire::FramerEvent& event, const bus::Bus& bus) 
     expect_frame(*frame, bus);
     return;
   }
-  // A damaged packet sent to an ID is answered with the checksum bit by whoever has that ID, as
-  // its Response level answers the (unverified) instruction; a broadcast one by nobody.
-  const auto& failure = std::get<wire::FramingError>(event);
-  after_ = failure.at;
-  if (failure.kind != wire::FramingErrorKind::BadCheck || !failure.id ||
-      *failure.id == wire::kBroadcastId) {
-    return;
-  }
-  bad_check_ = true;
-  const std::uint8_t code = failure.instruction.value_or(0);
-  const bool read_or_ping =
-      is(code, FeetechInstructionCode::Read) || is(code, FeetechInstructionCode::Ping);
-  if (const std::size_t n = servos_with(*failure.id, bus, read_or_ping); n > 0) {
-    answers_.push_back({*failure.id, n, 0});
-  }
+  // A damaged packet gets no status: FEETECH's error byte has no checksum bit to say so.
+  after_ = std::get<wire::FramingError>(event).at;
 }
 
 void FeetechReplies::expect_frame(const wire::Frame& frame, const bus::Bus& bus) {
   const auto decoded = wire::decode_instruction(frame);
   const auto* packet = std::get_if<wire::InstructionPacket>(&decoded);
   const std::uint8_t code = frame.instruction;
+  const auto everyone = [](const model::Servo& /*servo*/) { return true; };
   if (frame.id == wire::kBroadcastId) {
     if (packet == nullptr) {
       return;  // nothing broadcast is answered but PING and SYNC READ, malformed ones not at all
@@ -111,14 +104,18 @@ void FeetechReplies::expect_frame(const wire::Frame& frame, const bus::Bus& bus)
       answers_.push_back({wire::kBroadcastId, bus.servos().size(), 0});
     } else if (const auto* sync = std::get_if<wire::SyncRead>(&packet->instruction)) {
       // One status per listed ID (its first listing), each after the one before; the chain stops
-      // at the first listed ID nobody has. Response level 0 answers it too.
+      // at the first listed ID nobody answers: nobody has it, or its read reaches outside the
+      // tables of all who have. Response level 0 answers it too.
+      const auto reads = [&](const model::Servo& servo) {
+        return within_table(servo, sync->address, sync->length);
+      };
       std::vector<std::uint8_t> listed;
       for (const std::uint8_t id : sync->ids) {
         if (std::find(listed.begin(), listed.end(), id) != listed.end()) {
           continue;
         }
         listed.push_back(id);
-        const std::size_t n = servos_with(id, bus, true);
+        const std::size_t n = servos_with(id, bus, true, reads);
         if (n == 0) {
           break;
         }
@@ -132,23 +129,46 @@ void FeetechReplies::expect_frame(const wire::Frame& frame, const bus::Bus& bus)
       (packet != nullptr && std::holds_alternative<wire::Reboot>(packet->instruction))) {
     return;
   }
-  instruction_bit_ = packet == nullptr ||
-                     std::holds_alternative<wire::UnknownInstruction>(packet->instruction) ||
-                     std::holds_alternative<wire::Action>(packet->instruction) ||
-                     std::holds_alternative<wire::PositionCalibration>(packet->instruction);
-  const auto* read = packet != nullptr ? std::get_if<wire::Read>(&packet->instruction) : nullptr;
   const bool read_or_ping =
       is(code, FeetechInstructionCode::Read) || is(code, FeetechInstructionCode::Ping);
-  if (const std::size_t n = servos_with(frame.id, bus, read_or_ping); n > 0) {
-    answers_.push_back({frame.id, n, read != nullptr ? read->length : std::uint16_t{0}});
+  if (packet == nullptr) {
+    // Parameters that do not make the instruction: no status. A READ of 0 bytes is a value the
+    // servo refuses, which it acknowledges with no data, as a refused write.
+    const auto& error = std::get<wire::DecodeError>(decoded);
+    if (error.kind == wire::DecodeErrorKind::BadValue) {
+      if (const std::size_t n = servos_with(frame.id, bus, read_or_ping, everyone); n > 0) {
+        answers_.push_back({frame.id, n, 0});
+      }
+    }
+    return;
+  }
+  if (std::holds_alternative<wire::UnknownInstruction>(packet->instruction)) {
+    return;
+  }
+  std::size_t n = 0;
+  std::uint16_t read_length = 0;
+  if (const auto* read = std::get_if<wire::Read>(&packet->instruction)) {
+    read_length = read->length;
+    n = servos_with(frame.id, bus, true, [&](const model::Servo& servo) {
+      return within_table(servo, read->address, read->length);
+    });
+  } else if (std::holds_alternative<wire::PositionCalibration>(packet->instruction)) {
+    n = servos_with(frame.id, bus, false, calibrates);
+  } else {
+    n = servos_with(frame.id, bus, read_or_ping, everyone);
+  }
+  if (n > 0) {
+    answers_.push_back({frame.id, n, read_length});
   }
 }
 
-std::size_t FeetechReplies::servos_with(std::uint8_t id, const bus::Bus& bus,
-                                        bool answered_at_level_0) const {
+std::size_t FeetechReplies::servos_with(
+    std::uint8_t id, const bus::Bus& bus, bool answered_at_level_0,
+    const std::function<bool(const model::Servo&)>& answers) const {
   return static_cast<std::size_t>(
       std::count_if(bus.servos().begin(), bus.servos().end(), [&](const auto& servo) {
-        return servo->id() == id && (answered_at_level_0 || answers_everything(*servo));
+        return servo->id() == id && (answered_at_level_0 || answers_everything(*servo)) &&
+               answers(*servo);
       }));
 }
 
@@ -188,13 +208,8 @@ bool FeetechReplies::matches(const Answer& answer, std::span<const std::uint8_t>
       (answer.id != wire::kBroadcastId && status->id != answer.id)) {
     return false;
   }
-  if (!status->params.empty() && status->params.size() != answer.read_length) {
-    return false;
-  }
-  const std::uint8_t allowed =
-      bits->second | (bad_check_ ? kChecksumBit : 0) | (instruction_bit_ ? kInstructionBit : 0);
-  const bool checksum_bit_right = ((status->error & kChecksumBit) != 0) == bad_check_;
-  return (status->error & ~allowed) == 0 && checksum_bit_right;
+  // A read the servo answers is one within its table: all its data comes. No refusal sets a bit.
+  return status->params.size() == answer.read_length && (status->error & ~bits->second) == 0;
 }
 
 }  // namespace dxlemu::fuzz

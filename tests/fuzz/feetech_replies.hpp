@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <vector>
@@ -18,12 +19,12 @@ namespace dxlemu::fuzz {
 /// one status to a unicast instruction its servo's Response level answers (none to Restart, to a
 /// SYNC READ or SYNC WRITE not sent to 0xFE, or at level 0 to anything but READ and PING); one to
 /// a broadcast PING (colliding bytes when several servos hear it); one per listed ID, in request
-/// order and stopping at the first silent one, to a SYNC READ; none to any other broadcast. Each
-/// status carries the addressed ID, a read's data or none, and only the error bits docs/feetech.md
-/// gives the case: the series' protection bits (voltage, overheat and, except on HLS, load; the
-/// angle sensor and current bits only come from injected faults), the checksum bit exactly in
-/// answer to a bad checksum, the instruction bit only for an unknown or malformed instruction,
-/// ACTION or position calibration.
+/// order and stopping at the first silent one, to a SYNC READ; none to any other broadcast.
+/// docs/feetech.md "Refusals": no status to a bad checksum, an unknown or malformed instruction
+/// (position calibration on SCS included), or a READ or SYNC READ part reaching past the
+/// servo's table. Each status carries the addressed ID, all of a read's data or none, and only
+/// the series' protection bits (voltage, overheat and, except on HLS, load; the angle sensor and
+/// current bits only come from injected faults): no refusal sets a bit.
 class FeetechReplies {
  public:
   /// Replaces what may be answered by the answers to `event`, a FEETECH frame or bad-check packet
@@ -43,18 +44,18 @@ class FeetechReplies {
   struct Answer {
     std::uint8_t id = 0;
     std::size_t senders = 0;
-    std::uint16_t read_length = 0;  ///< the data of a successful read; 0 for other instructions
+    std::uint16_t read_length = 0;  ///< the data of a read; 0 for other instructions
   };
 
   void expect_frame(const wire::Frame& frame, const bus::Bus& bus);
-  std::size_t servos_with(std::uint8_t id, const bus::Bus& bus, bool answered_at_level_0) const;
+  /// The servos with `id` that answer: at their Response level, and by `answers`.
+  std::size_t servos_with(std::uint8_t id, const bus::Bus& bus, bool answered_at_level_0,
+                          const std::function<bool(const model::Servo&)>& answers) const;
   bool matches(const Answer& answer, std::span<const std::uint8_t> bytes) const;
 
   std::vector<Answer> answers_;
   std::size_t next_ = 0;
-  bool bad_check_ = false;        ///< answering a packet whose checksum failed
-  bool instruction_bit_ = false;  ///< the instruction refusal bit may be set
-  sim::SimTime after_{};          ///< no delivery at or before: the packet, then the one before
+  sim::SimTime after_{};  ///< no delivery at or before: the packet, then the one before
   std::map<std::uint8_t, std::uint8_t> protection_bits_;  ///< per ID: the bits its servos may set
 };
 

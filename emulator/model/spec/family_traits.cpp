@@ -177,12 +177,18 @@ constexpr std::int64_t kMiddlePosition = 2048;
 // SMS Response return delay: "a setting below 50 still defaults to 50 (100us)".
 constexpr std::int64_t kSmsMinReturnDelay = 50;
 
-// The bits a FEETECH servo sets for the refusals FEETECH leaves undefined: Protocol 1.0's
-// Checksum (0x10) and Instruction (0x40) bits, which FEETECH leaves free. Its Range (0x08) and
-// Angle Limit (0x02) bits are FEETECH's current and angle sensor bits, so a refused write sets
-// no bit (docs/feetech.md "Refusals").
-constexpr RefusalBits kFeetechRefusalBits = {
-    .checksum = wire::v1_error::kChecksum, .instruction = wire::v1_error::kInstruction, .range = 0};
+// FEETECH's status error byte is the servo status (protocol-ft-scs.md: "If ERROR is 0, the
+// servo has no alarm information"): it has no checksum, instruction or range bit, so a servo
+// cannot say "no" with it. What it cannot make sense of (a bad checksum, an unknown or malformed
+// instruction) and a read whose data it cannot send get no reply, which FEETECH's SDK reports as
+// "There is no status packet!" (feetech/field-behaviour.md row 8, inferred). A write it refuses
+// is acknowledged with error 0 (row 6, inferred: LeRobot raises on a missing reply or an error
+// bit, yet its write of read-only address 85 succeeds on every SO-101). docs/feetech.md
+// "Refusals".
+constexpr Refusals kFeetechRefusals = {.checksum = wire::kSilentRefusal,
+                                       .instruction = wire::kSilentRefusal,
+                                       .read = wire::kSilentRefusal,
+                                       .range = {.silent = false, .bit = 0}};
 
 // Phase (18) bit 4, "angle feedback mode, (0) single-turn angle feedback, (1) full-angle
 // feedback" (STS, SMS and HLS tables; SCSCL marks it unused).
@@ -227,7 +233,7 @@ constexpr FamilyTraits kScs = {.family = Family::Scs,
                                .status_level_reads = 0,
                                .calibrated_position = kMiddlePosition,
                                .lock_flag_keeps_eeprom = true,
-                               .refusal_bits = kFeetechRefusalBits};
+                               .refusals = kFeetechRefusals};
 
 // STS: FEETECH's magnetic-encoder series (feetech/sts3215.md), with every status bit, Torque
 // switch 128 and single-turn or full-angle feedback, whose turn count power-off loses.
@@ -286,6 +292,22 @@ constexpr bool rows_in_family_order() {
 static_assert(rows_in_family_order(), "kFamilies lists one row per Family, in enum order");
 
 }  // namespace
+
+wire::RefusalAnswer Refusals::of(wire::RefusalClass refusal_class) const {
+  switch (refusal_class) {
+    case wire::RefusalClass::None:
+      return {};
+    case wire::RefusalClass::Range:
+      return range;
+    case wire::RefusalClass::Instruction:
+      return instruction;
+    case wire::RefusalClass::Checksum:
+      return checksum;
+    case wire::RefusalClass::Read:
+      return read;
+  }
+  return {};
+}
 
 const FamilyTraits& traits_of(Family family) {
   return kFamilies.at(static_cast<std::size_t>(family));

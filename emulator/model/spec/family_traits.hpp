@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "wire/protocol_table.hpp"
 #include "wire/status_error.hpp"
 
 namespace dxlemu::model {
@@ -156,14 +157,19 @@ struct OperatingModeValues {
   std::optional<std::int64_t> step = std::nullopt;   ///< FEETECH step mode (relative goals)
 };
 
-/// The status error bits a FEETECH servo sets when it refuses a packet, where FEETECH defines
-/// none (docs/feetech.md "Refusals"); 0: no bit, the refusal shows only in what did not change.
-/// A model file may replace them (`"refusal_bits"`).
-struct RefusalBits {
-  std::uint8_t checksum = 0;     ///< a packet with a wrong checksum sent to the servo's ID
-  std::uint8_t instruction = 0;  ///< an unknown instruction, or Action with nothing registered
-  std::uint8_t range = 0;        ///< a write or read the control table refuses, a bad length
-  bool operator==(const RefusalBits&) const = default;
+/// What a FEETECH servo does when it refuses a packet, where FEETECH defines no error bit to say
+/// so (docs/feetech.md "Refusals"): per class of refusal, a status with a bit (0: none, the
+/// refusal shows only in what did not change) or no status at all. A model file may replace
+/// them (`"refusal_bits"`).
+struct Refusals {
+  wire::RefusalAnswer checksum;     ///< a packet with a wrong checksum sent to the servo's ID
+  wire::RefusalAnswer instruction;  ///< an unknown instruction, or one it cannot make out
+  wire::RefusalAnswer read;         ///< a Read or Sync Read part outside the control table
+  wire::RefusalAnswer range;        ///< a write, or an instruction's setting, it refuses
+  bool operator==(const Refusals&) const = default;
+
+  /// The answer of `refusal_class` (RefusalClass::None: a status with no bit).
+  wire::RefusalAnswer of(wire::RefusalClass refusal_class) const;
 };
 
 /// The Error Code(153) value of each hardware error (ErrorReaction::ErrorCode); 0: the family
@@ -282,8 +288,8 @@ struct FamilyTraits {
   /// The Lock flag item (FEETECH's `lock_flag`) decides whether EEPROM writes survive power-off:
   /// those made while it is 1 are lost (docs/feetech.md "Lock"). It never refuses a write.
   bool lock_flag_keeps_eeprom = false;
-  /// The FEETECH status bits of refusals (FEETECH families only).
-  RefusalBits refusal_bits = {};
+  /// What a FEETECH servo answers to refusals (FEETECH families only).
+  Refusals refusals = {};
 };
 
 /// The Protocol 1.0 error bits of the hardware errors (protocol1.md "Error"), which are also the

@@ -25,6 +25,7 @@ class JsonNode {
   const std::string& pointer() const { return pointer_; }
   bool has(const char* key) const { return value_.contains(key); }
   bool is_string() const { return value_.is_string(); }
+  bool is_integer() const { return value_.is_number_integer(); }
 
   /// The member `key`; refused when it is missing.
   JsonNode at(const char* key) const;

@@ -50,7 +50,23 @@ constexpr std::array<std::string_view, 9> kMotionFields = {
     "degrees_per_pulse", "velocity_unit_rpm",      "current_unit_ma",
     "no_load_speed_rpm", "stall_torque_nm",        "nominal_voltage_v",
     "stall_current_a",   "acceleration_unit_rpm2", "current_zero"};
-constexpr std::array<std::string_view, 3> kRefusalFields = {"checksum", "instruction", "range"};
+// The members of `refusal_bits`, one per class of refusal (docs/model-format.md).
+struct RefusalField {
+  const char* key;
+  wire::RefusalAnswer Refusals::*answer;
+};
+constexpr std::array<RefusalField, 4> kRefusalClasses = {{{"checksum", &Refusals::checksum},
+                                                          {"instruction", &Refusals::instruction},
+                                                          {"read", &Refusals::read},
+                                                          {"range", &Refusals::range}}};
+constexpr std::array<std::string_view, kRefusalClasses.size()> kRefusalFields = [] {
+  std::array<std::string_view, kRefusalClasses.size()> keys{};
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    keys[i] = kRefusalClasses[i].key;
+  }
+  return keys;
+}();
+constexpr std::string_view kSilent = "silent";
 constexpr std::array<std::string_view, 3> kIndirectFields = {"address", "data", "count"};
 constexpr std::array<std::string_view, 3> kVariantFields = {"firmware_version", "indirect",
                                                             "notes"};
@@ -81,27 +97,40 @@ std::uint8_t read_sign_bit(const JsonNode& n, const ItemSpec& s) {
   return static_cast<std::uint8_t>(value);
 }
 
-// FEETECH defines the status bits 0, 1, 2, 3 and 5 (voltage, angle sensor, temperature, current,
-// load): a refusal bit may only be one of the others.
-RefusalBits read_refusal_bits(const JsonNode& n, const ModelSpec& spec) {
+// One class's answer: "silent" (no status), or the bit its status carries. FEETECH defines the
+// status bits 0, 1, 2, 3 and 5 (voltage, angle sensor, temperature, current, load): a refusal
+// bit may only be one of the others, or a client would take the refusal for a hardware error.
+wire::RefusalAnswer read_refusal_answer(const JsonNode& n) {
+  if (n.is_string()) {
+    const std::string word = n.string();
+    if (word != kSilent) {
+      n.fail("must be \"silent\" or a status bit, got \"" + word + "\"");
+    }
+    return wire::kSilentRefusal;
+  }
+  if (!n.is_integer()) {
+    n.fail("must be \"silent\" or a status bit (an integer 0 ~ 255)");
+  }
+  const auto bit = static_cast<std::uint8_t>(n.integer(0, kU8));
+  if ((bit & wire::feetech_error::kDefinedBits) != 0) {
+    n.fail("uses a bit FEETECH defines for a hardware error (1, 2, 4, 8, 32 are taken)");
+  }
+  return {.silent = false, .bit = bit};
+}
+
+// The classes a model file names replace its family's; the others stay the family's.
+Refusals read_refusals(const JsonNode& n, const ModelSpec& spec) {
   n.expect_object(kRefusalFields);
   if (spec.maker() != Maker::Feetech) {
     n.fail("is a setting of FEETECH models only");
   }
-  auto bits = [&](const char* key, std::uint8_t fallback) {
-    if (!n.has(key)) {
-      return fallback;
+  Refusals out = spec.traits().refusals;
+  for (const RefusalField& field : kRefusalClasses) {
+    if (n.has(field.key)) {
+      out.*field.answer = read_refusal_answer(n.child(field.key));
     }
-    const JsonNode b = n.child(key);
-    const auto value = static_cast<std::uint8_t>(b.integer(0, kU8));
-    if ((value & wire::feetech_error::kDefinedBits) != 0) {
-      b.fail("uses a bit FEETECH defines for a hardware error (1, 2, 4, 8, 32 are taken)");
-    }
-    return value;
-  };
-  const RefusalBits family = spec.traits().refusal_bits;
-  return {bits("checksum", family.checksum), bits("instruction", family.instruction),
-          bits("range", family.range)};
+  }
+  return out;
 }
 
 ByteOrder read_byte_order(const JsonNode& n) {
@@ -411,7 +440,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
     }
   }
   if (root.has("refusal_bits")) {
-    spec.refusal_bits = read_refusal_bits(root.child("refusal_bits"), spec);
+    spec.refusal_bits = read_refusals(root.child("refusal_bits"), spec);
   }
 
   if (root.has("indirect")) {

@@ -160,8 +160,8 @@ struct ModelSpec {
   std::string source;
   std::vector<std::string> notes;
   std::vector<ItemSpec> items;  ///< in address order
-  /// The model file's `refusal_bits`, replacing its family's (FEETECH models only).
-  std::optional<RefusalBits> refusal_bits;
+  /// The model file's `refusal_bits`, replacing its family's refusals (FEETECH models only).
+  std::optional<Refusals> refusal_bits;
   /// Key → index into `items`, for find() and index_of(): servos look up dozens of items by key
   /// when they are built. Filled by index_items().
   std::unordered_map<std::string, std::size_t, KeyHash, std::equal_to<>> item_index;
@@ -170,8 +170,9 @@ struct ModelSpec {
   const FamilyTraits& traits() const { return traits_of(family); }
   /// Who makes the model (its family's maker).
   Maker maker() const { return traits().maker; }
-  /// The status bits of refusals FEETECH leaves undefined: the file's, else the family's.
-  RefusalBits refusals() const { return refusal_bits.value_or(traits().refusal_bits); }
+  /// What the servo answers to the refusals FEETECH gives no error bit: the file's, else the
+  /// family's.
+  Refusals refusals() const { return refusal_bits.value_or(traits().refusals); }
   /// Fills item_index from `items`; call it whenever `items` is set (the loader does).
   void index_items();
   /// The item with `key`, or nullptr.

@@ -1,6 +1,7 @@
 // FEETECH servos on a bus: framing, group instructions, broadcast Ping collisions, reply timing,
 // Response level, REG WRITE/ACTION, Restart and FEETECH's own instructions (docs/feetech.md
-// "On a bus"; the status bits and protections: feetech_protection_test.cpp).
+// "On a bus"; the status bits and protections: feetech_protection_test.cpp; refusals:
+// feetech_refusals_test.cpp).
 #include <catch2/catch.hpp>
 
 #include "app/daemon/bus_state.hpp"
@@ -141,67 +142,6 @@ TEST_CASE("FEETECH SYNC WRITE and broadcast WRITE apply without a reply", "[bus]
   CHECK(rig.bus.servos()[0]->table().get("acceleration") == 10);
   CHECK(rig.bus.servos()[1]->table().get("acceleration") == 20);
   CHECK(rig.bus.servos()[1]->table().get("positive_deadband") == 3);
-}
-
-TEST_CASE("DYNAMIXEL's Bulk Read code is an unknown instruction to a FEETECH servo",
-          "[bus][feetech]") {
-  BusRig rig;
-  sts_bus(rig, 1);
-  send(rig, 1, wire::UnknownInstruction{0x92, {}});
-  rig.run();
-  REQUIRE(rig.link.deliveries().size() == 1);
-  // Protocol 1.0's Instruction bit, which FEETECH leaves free.
-  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x40");
-}
-
-TEST_CASE("FEETECH refusals: checksum and instruction bits, a refused write changes nothing",
-          "[bus][feetech]") {
-  BusRig rig;
-  sts_bus(rig, 1);
-  model::Servo& servo = *rig.bus.servos()[0];
-  SECTION("bad checksum: 0x10") {
-    auto bytes = wire::encode_instruction({Protocol::Feetech, 1, wire::Read{56, 2}});
-    bytes.back() ^= 0x01;
-    rig.bus.receive(bytes, rig.scheduler.now(), kMbps);
-    rig.run();
-    REQUIRE(rig.link.deliveries().size() == 1);
-    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x10");
-  }
-  SECTION("write to a read-only item: no bit, nothing written") {
-    send(rig, 1, wire::Write{63, {99}});
-    rig.run();
-    REQUIRE(rig.link.deliveries().size() == 1);
-    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
-    CHECK(servo.table().get("present_temperature") == 25);
-  }
-  SECTION("value out of range: no bit, nothing written") {
-    send(rig, 1, wire::Write{26, {17}});  // Positive deadband 0 ~ 16
-    rig.run();
-    REQUIRE(rig.link.deliveries().size() == 1);
-    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
-    CHECK(servo.table().get("positive_deadband") == 1);
-  }
-  SECTION("read outside the table: no bit, no data") {
-    send(rig, 1, wire::Read{90, 2});
-    rig.run();
-    REQUIRE(rig.link.deliveries().size() == 1);
-    CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
-  }
-}
-
-TEST_CASE("A model file's refusal_bits replace its family's", "[bus][feetech]") {
-  BusRig rig;
-  auto spec = std::make_shared<model::ModelSpec>(*test::shipped_model("feetech/sts3215"));
-  spec->refusal_bits = model::RefusalBits{.checksum = 0, .instruction = 0x80, .range = 0x40};
-  rig.bus.add_servo(std::make_unique<model::Servo>(spec, 1));
-  send(rig, 1, wire::Write{26, {17}});
-  rig.run();
-  send(rig, 1, wire::UnknownInstruction{0x20, {}});
-  rig.run();
-  const auto& d = rig.link.deliveries();
-  REQUIRE(d.size() == 2);
-  CHECK(status(d[0]) == "id=1 error=0x40");
-  CHECK(status(d[1]) == "id=1 error=0x80");
 }
 
 TEST_CASE("FEETECH Response level 0 answers READ and PING only", "[bus][feetech]") {

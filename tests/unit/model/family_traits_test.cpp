@@ -190,8 +190,12 @@ TEST_CASE("The FEETECH series: FEETECH's status bits, mode values, response leve
     CHECK((t.status_level_all == 1 && t.status_level_reads == 0));
     CHECK(t.lock_flag_keeps_eeprom);
     CHECK_FALSE(t.eeprom_locked_by_torque);
-    // Refusal bits never collide with a bit FEETECH defines.
-    CHECK(t.refusal_bits == model::RefusalBits{.checksum = 0x10, .instruction = 0x40, .range = 0});
+    // No error bit to say "no": silence where the servo cannot act on the packet or send the
+    // data, an acknowledgement with no bit for a refused write.
+    CHECK(t.refusals == model::Refusals{.checksum = wire::kSilentRefusal,
+                                        .instruction = wire::kSilentRefusal,
+                                        .read = wire::kSilentRefusal,
+                                        .range = {}});
     CHECK(model::fault_bit(family, HardwareFault::InputVoltage) == 0x01);
     CHECK(model::fault_bit(family, HardwareFault::Overheating) == 0x04);
   }

@@ -326,8 +326,10 @@ TEST_CASE("refusal_bits: FEETECH models only, never a bit FEETECH defines",
   j["refusal_bits"] = {{"range", 0x80}};
   const model::ModelSpec spec = model::model_from_json(j, "ft.json");
   // The keys not given are the family's.
-  CHECK(spec.refusals() ==
-        model::RefusalBits{.checksum = 0x10, .instruction = 0x40, .range = 0x80});
+  CHECK(spec.refusals() == model::Refusals{.checksum = wire::kSilentRefusal,
+                                           .instruction = wire::kSilentRefusal,
+                                           .read = wire::kSilentRefusal,
+                                           .range = {.silent = false, .bit = 0x80}});
 }
 
 TEST_CASE("A FEETECH model may lack return_delay_time, a DYNAMIXEL one may not",
