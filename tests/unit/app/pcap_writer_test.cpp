@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "app/record/pcap_writer.hpp"
+#include "pcap_layout.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"
@@ -14,8 +15,8 @@ using Bytes = std::vector<std::uint8_t>;
 
 namespace {
 
-constexpr std::size_t kGlobalHeaderBytes = 24;
-constexpr std::size_t kRecordHeaderBytes = 16;
+using test::pcap::kGlobalHeaderBytes;
+using test::pcap::kRecordHeaderBytes;
 
 // 2023-11-14 22:13:20.25 UTC, as microseconds since the Unix epoch.
 constexpr std::chrono::microseconds kStart{1'700'000'000'250'000};

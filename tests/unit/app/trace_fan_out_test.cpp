@@ -5,6 +5,7 @@
 
 #include "app/daemon/trace_fan_out.hpp"
 #include "app/record/trace_record.hpp"
+#include "pcap_layout.hpp"
 #include "wire/framer.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"
@@ -14,9 +15,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
-constexpr std::chrono::microseconds kStart{1'700'000'000'000'000};
-constexpr std::size_t kGlobalHeaderBytes = 24;
-constexpr std::size_t kRecordHeaderBytes = 16;
+constexpr std::chrono::microseconds kTraceStart{1'700'000'000'000'000};
+using test::pcap::kGlobalHeaderBytes;
+using test::pcap::kRecordHeaderBytes;
 
 const std::vector<std::uint8_t> kRead =
     wire::encode_instruction({wire::Protocol::V2, 1, wire::Read{132, 4}});
@@ -50,7 +51,7 @@ TEST_CASE("Every packet each way is a line of the trace file, flushed when the h
           "[app][trace]") {
   auto file = std::make_unique<std::ostringstream>();
   std::ostringstream& trace = *file;
-  app::TraceFanOut fan_out(std::move(file), nullptr, kStart);
+  app::TraceFanOut fan_out(std::move(file), nullptr, kTraceStart);
   const bus::LineObserver dxl0 = fan_out.observer("dxl0", 0);
   dxl0.heard(heard(sim::SimTime{} + 1ms));
   dxl0.sent(kStatus, sim::SimTime{} + 2ms, wire::Protocol::V2);
@@ -62,7 +63,7 @@ TEST_CASE("Every packet each way is a line of the trace file, flushed when the h
 
 TEST_CASE("A subscriber gets the trace events of its port or of every port until it leaves",
           "[app][trace]") {
-  app::TraceFanOut fan_out(nullptr, nullptr, kStart);
+  app::TraceFanOut fan_out(nullptr, nullptr, kTraceStart);
   const bus::LineObserver dxl0 = fan_out.observer("dxl0", 0);
   const bus::LineObserver arm = fan_out.observer("arm", 1);
   Client one;
@@ -90,7 +91,7 @@ TEST_CASE("A subscriber gets the trace events of its port or of every port until
 TEST_CASE("The capture gets one record per packet, stamped with its port's index", "[app][trace]") {
   auto file = std::make_unique<std::ostringstream>();
   std::ostringstream& capture = *file;
-  app::TraceFanOut fan_out(nullptr, std::move(file), kStart);
+  app::TraceFanOut fan_out(nullptr, std::move(file), kTraceStart);
   CHECK(capture.str().size() == kGlobalHeaderBytes);
   const bus::LineObserver arm = fan_out.observer("arm", 1);
   arm.heard(heard(sim::SimTime{}));
@@ -109,10 +110,11 @@ TEST_CASE("The capture gets one record per packet, stamped with its port's index
 
 TEST_CASE("A trace or capture file that cannot be created is refused naming its option",
           "[app][trace]") {
-  CHECK_THROWS_WITH(app::TraceFanOut::open("/nonexistent-dir/trace.jsonl", std::nullopt, kStart),
-                    Catch::Contains("/nonexistent-dir/trace.jsonl") &&
-                        Catch::Contains("cannot be created (--trace)"));
-  CHECK_THROWS_WITH(app::TraceFanOut::open(std::nullopt, "/nonexistent-dir/x.pcap", kStart),
+  CHECK_THROWS_WITH(
+      app::TraceFanOut::open("/nonexistent-dir/trace.jsonl", std::nullopt, kTraceStart),
+      Catch::Contains("/nonexistent-dir/trace.jsonl") &&
+          Catch::Contains("cannot be created (--trace)"));
+  CHECK_THROWS_WITH(app::TraceFanOut::open(std::nullopt, "/nonexistent-dir/x.pcap", kTraceStart),
                     Catch::Contains("cannot be created (--pcap)"));
-  CHECK(app::TraceFanOut::open(std::nullopt, std::nullopt, kStart) != nullptr);
+  CHECK(app::TraceFanOut::open(std::nullopt, std::nullopt, kTraceStart) != nullptr);
 }
