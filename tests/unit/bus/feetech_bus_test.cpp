@@ -5,49 +5,15 @@
 #include <catch2/catch.hpp>
 
 #include "app/daemon/bus_state.hpp"
-#include "bus_rig.hpp"
+#include "feetech_rig.hpp"
 
 namespace dxlemu {
-namespace {
 
 using namespace std::chrono_literals;
+using namespace test::feetech;
 using test::BusRig;
 using test::kBroadcast;
 using test::line;
-using wire::Protocol;
-
-constexpr std::uint32_t kMbps = 1'000'000;  // every FEETECH model's factory rate
-// The models' processing time (no source gives one: docs/feetech.md "Reply timing").
-constexpr sim::SimDuration kProcessing = 50us;
-
-/// A bus of `count` STS3215 with IDs 1 ~ count.
-BusRig& sts_bus(BusRig& rig, int count) {
-  for (int id = 1; id <= count; ++id) {
-    rig.add("feetech/sts3215", static_cast<std::uint8_t>(id));
-  }
-  return rig;
-}
-
-std::size_t send(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  return rig.send({Protocol::Feetech, id, std::move(instruction)}, kMbps);
-}
-
-/// Sends and lets the reply (if any) come before the next packet, as a client waits for it.
-void ask(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  send(rig, id, std::move(instruction));
-  rig.run(10ms);
-}
-
-std::string status(const bus::LoopbackLink::Delivery& d) {
-  return test::status_text(d.bytes, Protocol::Feetech);
-}
-
-std::vector<std::uint8_t> le16(std::int64_t v) {
-  const auto u = static_cast<std::uint16_t>(v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
-}
-
-}  // namespace
 
 TEST_CASE("A FEETECH Ping is answered with FF FF ID 02 ERR SUM after wire and processing time",
           "[bus][feetech][timing]") {
@@ -59,7 +25,7 @@ TEST_CASE("A FEETECH Ping is answered with FF FF ID 02 ERR SUM after wire and pr
   REQUIRE(d.size() == 1);
   CHECK(d[0].bytes == std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
   // Return delay (address 7) 0 at the factory.
-  CHECK(d[0].at == sim::SimTime{} + line(sent, kMbps) + kProcessing + line(6, kMbps));
+  CHECK(d[0].at == sim::SimTime{} + line(sent, kRate) + kProcessing + line(6, kRate));
 }
 
 TEST_CASE("A FEETECH servo reads its model number at 3 and answers Read with its bytes",
@@ -114,10 +80,10 @@ TEST_CASE("FEETECH SYNC READ answers one status per listed ID, in request order,
   CHECK(status(d[1]) == "id=1 error=0x00 params=1F");
   CHECK(status(d[2]) == "id=2 error=0x00 params=20");
   const sim::SimTime first =
-      sim::SimTime{} + line(sent, kMbps) + kProcessing + 20us + line(7, kMbps);
+      sim::SimTime{} + line(sent, kRate) + kProcessing + 20us + line(7, kRate);
   CHECK(d[0].at == first);
-  CHECK(d[1].at == first + kProcessing + line(7, kMbps));
-  CHECK(d[2].at == d[1].at + kProcessing + line(7, kMbps));
+  CHECK(d[1].at == first + kProcessing + line(7, kRate));
+  CHECK(d[2].at == d[1].at + kProcessing + line(7, kRate));
 }
 
 TEST_CASE("A FEETECH SYNC READ stops at a listed ID that does not answer, as the 2.0 chain does",
@@ -210,7 +176,7 @@ TEST_CASE("Return delay in 2 us units, SMS counts a value below 50 as 50, HLS ha
     const std::size_t sent = send(rig, 1, wire::Ping{});
     rig.run();
     REQUIRE(rig.link.deliveries().size() == 1);
-    return rig.link.deliveries()[0].at - sim::SimTime{} - line(sent, kMbps) - line(6, kMbps) -
+    return rig.link.deliveries()[0].at - sim::SimTime{} - line(sent, kRate) - line(6, kRate) -
            kProcessing;
   };
   CHECK(reply_after("feetech/sts3215", 10) == 20us);

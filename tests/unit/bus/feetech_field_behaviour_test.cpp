@@ -4,41 +4,17 @@
 // reply to an ID write, the firmware bytes (docs/feetech.md "Field behaviour").
 #include <catch2/catch.hpp>
 
-#include "bus_rig.hpp"
+#include "feetech_rig.hpp"
 
 namespace dxlemu {
 namespace field_behaviour {
 
 using namespace std::chrono_literals;
+using namespace test::feetech;
 using test::BusRig;
-using wire::Protocol;
 
-constexpr std::uint32_t kMbps = 1'000'000;
 constexpr std::int64_t kTurn = 4096;
 constexpr std::uint8_t kFullAngle = 12 | 16;  // the factory Phase with bit 4 set
-
-BusRig& sts3215s(BusRig& rig, int count) {
-  for (int id = 1; id <= count; ++id) {
-    rig.add("feetech/sts3215", static_cast<std::uint8_t>(id));
-  }
-  return rig;
-}
-
-/// Sends and lets the reply (if any) come before the next packet, as a client waits for it.
-void request(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  rig.send({Protocol::Feetech, id, std::move(instruction)}, kMbps);
-  rig.run(10ms);
-}
-
-std::string last_status(const BusRig& rig) {
-  return test::status_text(rig.link.deliveries().back().bytes, Protocol::Feetech);
-}
-
-/// `v` as FEETECH's sign-magnitude 2 bytes (bit 15 the sign), little-endian as on an STS.
-std::vector<std::uint8_t> sm16(std::int64_t v) {
-  const auto u = static_cast<std::uint16_t>(v < 0 ? (0x8000 | -v) : v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
-}
 
 /// `bytes` as status_text prints parameters: "E8 83".
 std::string hex_bytes(const std::vector<std::uint8_t>& bytes) {
@@ -54,15 +30,9 @@ std::string hex_bytes(const std::vector<std::uint8_t>& bytes) {
   return text;
 }
 
+/// Present position as it is now (the motion caught up first).
 std::int64_t present(model::Servo& servo, BusRig& rig) {
-  rig.bus.catch_up();
-  return servo.table().get("present_position");
-}
-
-/// Turns the shaft by hand to where Present position reads `reading`, as a tick absorbs it.
-void turn_by_hand(BusRig& rig, model::Servo& servo, std::int64_t reading) {
-  servo.table().set("present_position", reading);
-  rig.run(5ms);
+  return item_now(rig, servo, "present_position");
 }
 
 }  // namespace field_behaviour
@@ -72,45 +42,45 @@ using namespace field_behaviour;
 TEST_CASE("Phase bit 4 clear: Present position is the angle within one turn, wrapping at 4095",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 1);
+  sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
   REQUIRE(servo.table().get("phase") == 12);  // the factory value: bit 4 clear
-  turn_by_hand(rig, servo, 4090);
+  turn_by_hand_to(rig, servo, 4090);
   CHECK(present(servo, rig) == 4090);
-  turn_by_hand(rig, servo, 4095);
-  turn_by_hand(rig, servo, 3);  // on across the seam, not a turn back
+  turn_by_hand_to(rig, servo, 4095);
+  turn_by_hand_to(rig, servo, 3);  // on across the seam, not a turn back
   CHECK(present(servo, rig) == 3);
   // Position offset applies around the turn: 3 - 100 reads 4095 - 96.
-  request(rig, 1, wire::Write{31, {100, 0}});
+  ask(rig, 1, wire::Write{31, {100, 0}});
   CHECK(present(servo, rig) == kTurn - 97);
-  request(rig, 1, wire::Read{56, 2});
+  ask(rig, 1, wire::Read{56, 2});
   CHECK(last_status(rig) == "id=1 error=0x00 params=9F 0F");
   // The shaft went on across the seam: full-angle feedback shows the turn it is on.
-  request(rig, 1, wire::Write{18, {kFullAngle}});
+  ask(rig, 1, wire::Write{18, {kFullAngle}});
   CHECK(present(servo, rig) == kTurn - 97);
-  request(rig, 1, wire::Write{31, {0, 0}});
+  ask(rig, 1, wire::Write{31, {0, 0}});
   CHECK(present(servo, rig) == kTurn + 3);
 }
 
 TEST_CASE("Phase bit 4 set: the turns count beyond 4095 and below 0, lost at power-off",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 1);
+  sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
-  request(rig, 1, wire::Write{55, {0}});  // Lock 0: Phase survives the power cycle
-  request(rig, 1, wire::Write{18, {kFullAngle}});
-  request(rig, 1, wire::Write{11, sm16(0)});  // both limits 0: multi-turn goals
-  request(rig, 1, wire::Write{40, {1}});
-  request(rig, 1, wire::Write{42, sm16(2 * kTurn + 100)});
+  ask(rig, 1, wire::Write{55, {0}});  // Lock 0: Phase survives the power cycle
+  ask(rig, 1, wire::Write{18, {kFullAngle}});
+  ask(rig, 1, wire::Write{11, sm16(0)});  // both limits 0: multi-turn goals
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, sm16(2 * kTurn + 100)});
   rig.run(6s);
   CHECK(std::abs(present(servo, rig) - (2 * kTurn + 100)) <= 2);
-  request(rig, 1, wire::Write{42, sm16(-1000)});
+  ask(rig, 1, wire::Write{42, sm16(-1000)});
   rig.run(6s);
   CHECK(std::abs(present(servo, rig) + 1000) <= 2);
-  request(rig, 1, wire::Write{40, {0}});  // hold still for an exact reading
+  ask(rig, 1, wire::Write{40, {0}});  // hold still for an exact reading
   const std::int64_t below_zero = present(servo, rig);
   REQUIRE(below_zero < 0);
-  request(rig, 1, wire::Read{56, 2});
+  ask(rig, 1, wire::Read{56, 2});
   CHECK(last_status(rig) == "id=1 error=0x00 params=" + hex_bytes(sm16(below_zero)));
   // Power-off loses the turn count: the shaft reads within one turn again.
   rig.bus.power_on(servo);
@@ -122,32 +92,32 @@ TEST_CASE("Phase bit 4 set: the turns count beyond 4095 and below 0, lost at pow
 TEST_CASE("A goal written with the torque off turns it on and moves the servo",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 2);
+  sts_bus(rig, 2);
   model::Servo& first = *rig.bus.servos()[0];
   model::Servo& second = *rig.bus.servos()[1];
   REQUIRE(first.table().get("torque_switch") == 0);
-  request(rig, 1, wire::Write{42, sm16(3000)});
+  ask(rig, 1, wire::Write{42, sm16(3000)});
   CHECK(last_status(rig) == "id=1 error=0x00");
   CHECK(first.table().get("torque_switch") == 1);
   // LeRobot's sync_write("Goal_Position") does the same to every servo it lists.
-  request(rig, test::kBroadcast, wire::SyncWrite{42, 2, {{2, sm16(1000)}}});
+  ask(rig, test::kBroadcast, wire::SyncWrite{42, 2, {{2, sm16(1000)}}});
   CHECK(second.table().get("torque_switch") == 1);
   rig.run(2s);
   CHECK(std::abs(present(first, rig) - 3000) <= 2);
   CHECK(std::abs(present(second, rig) - 1000) <= 2);
 
   SECTION("in wheel mode the speed is the goal") {
-    request(rig, 1, wire::Write{40, {0}});
-    request(rig, 1, wire::Write{33, {1}});
-    request(rig, 1, wire::Write{46, sm16(500)});
+    ask(rig, 1, wire::Write{40, {0}});
+    ask(rig, 1, wire::Write{33, {1}});
+    ask(rig, 1, wire::Write{46, sm16(500)});
     CHECK(first.table().get("torque_switch") == 1);
     rig.run(1s);
     rig.bus.catch_up();
     CHECK(std::abs(first.table().get("present_speed") - 500) <= 5);
   }
   SECTION("in position mode Running speed is no goal: the torque stays off") {
-    request(rig, 1, wire::Write{40, {0}});
-    request(rig, 1, wire::Write{46, sm16(500)});
+    ask(rig, 1, wire::Write{40, {0}});
+    ask(rig, 1, wire::Write{46, sm16(500)});
     CHECK(first.table().get("torque_switch") == 0);
   }
 }
@@ -155,23 +125,23 @@ TEST_CASE("A goal written with the torque off turns it on and moves the servo",
 TEST_CASE("A goal beyond the angle limits drives to the nearer limit around the turn",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 1);
+  sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
-  request(rig, 1, wire::Write{9, sm16(1000)});
-  request(rig, 1, wire::Write{11, sm16(3000)});
-  request(rig, 1, wire::Write{42, sm16(4090)});  // 1006 steps below 1000, 1090 above 3000
+  ask(rig, 1, wire::Write{9, sm16(1000)});
+  ask(rig, 1, wire::Write{11, sm16(3000)});
+  ask(rig, 1, wire::Write{42, sm16(4090)});  // 1006 steps below 1000, 1090 above 3000
   CHECK(last_status(rig) == "id=1 error=0x00");
   CHECK(servo.table().get("goal_position") == 4090);  // kept as written
   rig.run(2s);
   CHECK(std::abs(present(servo, rig) - 1000) <= 2);
-  request(rig, 1, wire::Write{42, sm16(3500)});
+  ask(rig, 1, wire::Write{42, sm16(3500)});
   rig.run(2s);
   CHECK(std::abs(present(servo, rig) - 3000) <= 2);
   // LeRobot's "snap the goal to the present position" with the arm pushed outside its limits:
   // the servo drives back inside.
-  request(rig, 1, wire::Write{40, {0}});
-  turn_by_hand(rig, servo, 3800);
-  request(rig, 1, wire::Write{42, sm16(3800)});
+  ask(rig, 1, wire::Write{40, {0}});
+  turn_by_hand_to(rig, servo, 3800);
+  ask(rig, 1, wire::Write{42, sm16(3800)});
   rig.run(2s);
   CHECK(std::abs(present(servo, rig) - 3000) <= 2);
 }
@@ -179,13 +149,13 @@ TEST_CASE("A goal beyond the angle limits drives to the nearer limit around the 
 TEST_CASE("Torque on drives to Goal position as it stands, a stale goal too",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 1);
+  sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
   // At power-up Goal position is where the shaft is.
-  request(rig, 1, wire::Read{42, 2});
+  ask(rig, 1, wire::Read{42, 2});
   CHECK(last_status(rig) == "id=1 error=0x00 params=00 08");
-  turn_by_hand(rig, servo, 1000);
-  request(rig, 1, wire::Write{40, {1}});
+  turn_by_hand_to(rig, servo, 1000);
+  ask(rig, 1, wire::Write{40, {1}});
   CHECK(servo.table().get("goal_position") == 2048);
   rig.run(2s);
   CHECK(std::abs(present(servo, rig) - 2048) <= 2);
@@ -194,40 +164,40 @@ TEST_CASE("Torque on drives to Goal position as it stands, a stale goal too",
 TEST_CASE("Torque switch 128 calibrates to 2048 within one turn and reads 0 afterwards",
           "[bus][feetech][motion]") {
   BusRig rig;
-  sts3215s(rig, 1);
+  sts_bus(rig, 1);
   model::Servo& servo = *rig.bus.servos()[0];
-  request(rig, 1, wire::Write{55, {0}});
-  request(rig, 1, wire::Write{18, {kFullAngle}});
-  request(rig, 1, wire::Write{11, sm16(0)});  // both limits 0: multi-turn goals
-  request(rig, 1, wire::Write{40, {1}});
-  request(rig, 1, wire::Write{42, sm16(kTurn + 10)});
+  ask(rig, 1, wire::Write{55, {0}});
+  ask(rig, 1, wire::Write{18, {kFullAngle}});
+  ask(rig, 1, wire::Write{11, sm16(0)});  // both limits 0: multi-turn goals
+  ask(rig, 1, wire::Write{40, {1}});
+  ask(rig, 1, wire::Write{42, sm16(kTurn + 10)});
   rig.run(3s);
   REQUIRE(std::abs(present(servo, rig) - (kTurn + 10)) <= 2);
   // The shaft is a turn on: full-angle feedback needs an offset of a turn, beyond -2047 ~ 2047.
-  request(rig, 1, wire::Write{40, {128}});
+  ask(rig, 1, wire::Write{40, {128}});
   CHECK(servo.table().get("position_offset") == 0);
   CHECK(servo.table().get("torque_switch") == 0);
   // Single-turn feedback reads the angle: an offset within reach makes it 2048.
-  request(rig, 1, wire::Write{18, {12}});
-  request(rig, 1, wire::Write{40, {128}});
+  ask(rig, 1, wire::Write{18, {12}});
+  ask(rig, 1, wire::Write{40, {128}});
   CHECK(present(servo, rig) == 2048);
   CHECK(std::abs(servo.table().get("position_offset") - (10 - 2048)) <= 2);
 }
 
 TEST_CASE("The reply to a write of ID comes from the old ID", "[bus][feetech]") {
   BusRig rig;
-  sts3215s(rig, 1);
-  request(rig, 1, wire::Write{5, {7}});
+  sts_bus(rig, 1);
+  ask(rig, 1, wire::Write{5, {7}});
   CHECK(last_status(rig) == "id=1 error=0x00");
-  request(rig, 7, wire::Ping{});
+  ask(rig, 7, wire::Ping{});
   CHECK(last_status(rig) == "id=7 error=0x00");
 }
 
 TEST_CASE("Every STS3215 of an arm reports the same firmware bytes", "[bus][feetech]") {
   BusRig rig;
-  sts3215s(rig, 6);
+  sts_bus(rig, 6);
   for (std::uint8_t id = 1; id <= 6; ++id) {
-    request(rig, id, wire::Read{0, 2});
+    ask(rig, id, wire::Read{0, 2});
     CHECK(last_status(rig) == "id=" + std::to_string(id) + " error=0x00 params=03 06");
   }
 }

@@ -9,18 +9,17 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "bus_rig.hpp"
+#include "feetech_rig.hpp"
 #include "model/motion/hardware_fault.hpp"
 
 namespace dxlemu {
 namespace {
 
 using namespace std::chrono_literals;
+using namespace test::feetech;
 
-constexpr std::uint32_t kFtMbps = 1'000'000;  // every FEETECH model's factory rate
 constexpr std::uint8_t kFtBroadcast = test::kBroadcast;
 
 // STS3215 items (models/feetech/sts3215.json).
@@ -44,49 +43,6 @@ constexpr std::uint8_t kFactoryUnload = 44;
 constexpr std::uint8_t kVoltageBit = 0x01;
 constexpr std::uint8_t kEncoderBit = 0x02;
 
-/// `v` as a FEETECH 2-byte item, low byte first.
-std::vector<std::uint8_t> word(std::int64_t v) {
-  const auto u = static_cast<std::uint16_t>(v);
-  return {static_cast<std::uint8_t>(u), static_cast<std::uint8_t>(u >> 8)};
-}
-
-/// The client sends `instruction` to `id` now.
-void say(test::BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  rig.send({wire::Protocol::Feetech, id, std::move(instruction)}, kFtMbps);
-}
-
-/// Sends and waits for the reply (if any) before the next packet, as a client does.
-void say_and_wait(test::BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  say(rig, id, std::move(instruction));
-  rig.run(10ms);
-}
-
-/// The last status the client got, as text ("id=1 error=0x20 params=C8 00").
-std::string last_reply(const test::BusRig& rig) {
-  const auto& d = rig.link.deliveries();
-  return d.empty() ? "no reply" : test::status_text(d.back().bytes, wire::Protocol::Feetech);
-}
-
-/// An item of `servo` as it is now (the motion caught up).
-std::int64_t item_now(test::BusRig& rig, model::Servo& servo, const std::string& key) {
-  rig.bus.catch_up();
-  return servo.table().get(key);
-}
-
-/// Blocks the servo's shaft (or frees it), at the supply it has.
-void block_shaft(model::Servo& servo, bool blocked) {
-  model::Conditions c = servo.motion().conditions();
-  c.blocked = blocked;
-  servo.motion().set_conditions(c);
-}
-
-/// Powers the servo at `volts`.
-void set_supply(model::Servo& servo, double volts) {
-  model::Conditions c = servo.motion().conditions();
-  c.supply_v = volts;
-  servo.motion().set_conditions(c);
-}
-
 /// Sets the winding's temperature, as the control API's set of Present temperature does.
 void heat_winding(model::Servo& servo, std::int64_t celsius) {
   servo.table().set("present_temperature", celsius);
@@ -97,8 +53,8 @@ void heat_winding(model::Servo& servo, std::int64_t celsius) {
 model::Servo& blocked_at_full_torque(test::BusRig& rig) {
   model::Servo& servo = rig.add("feetech/sts3215", 1);
   block_shaft(servo, true);
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
   return servo;
 }
 
@@ -108,16 +64,16 @@ TEST_CASE("FEETECH status bits ride in the error byte of PING and READ replies",
           "[bus][feetech][faults]") {
   test::BusRig rig;
   model::Servo& servo = rig.add("feetech/sts3215", 1);
-  say_and_wait(rig, 1, wire::Ping{});
-  CHECK(last_reply(rig) == "id=1 error=0x00");
+  ask(rig, 1, wire::Ping{});
+  CHECK(last_status(rig) == "id=1 error=0x00");
   heat_winding(servo, 75);  // over Maximum temperature limit (70)
   rig.run(10ms);
-  say_and_wait(rig, 1, wire::Ping{});
-  CHECK(last_reply(rig) == "id=1 error=0x04");
-  say_and_wait(rig, 1, wire::Read{kPresentTemperature, 1});
-  CHECK(last_reply(rig) == "id=1 error=0x04 params=4B");
-  say_and_wait(rig, 1, wire::Read{kServoStatus, 1});
-  CHECK(last_reply(rig) == "id=1 error=0x04 params=04");
+  ask(rig, 1, wire::Ping{});
+  CHECK(last_status(rig) == "id=1 error=0x04");
+  ask(rig, 1, wire::Read{kPresentTemperature, 1});
+  CHECK(last_status(rig) == "id=1 error=0x04 params=4B");
+  ask(rig, 1, wire::Read{kServoStatus, 1});
+  CHECK(last_status(rig) == "id=1 error=0x04 params=04");
 }
 
 TEST_CASE("A FEETECH SYNC READ returns its data with the status bits set",
@@ -128,7 +84,7 @@ TEST_CASE("A FEETECH SYNC READ returns its data with the status bits set",
   heat_winding(hot, 75);
   rig.run(10ms);
   rig.link.clear();
-  say(rig, kFtBroadcast, wire::SyncRead{kPresentPosition, 2, {1, 2}});
+  send(rig, kFtBroadcast, wire::SyncRead{kPresentPosition, 2, {1, 2}});
   rig.run(10ms);
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 2);
@@ -145,29 +101,29 @@ TEST_CASE("A FEETECH overload leaves Holding torque until the next position comm
   CHECK(item_now(rig, servo, "servo_status") == 0);
   CHECK(item_now(rig, servo, "present_load") == 1000);
   rig.run(200ms);  // past Protection time, 200 x 10 ms, over Overload torque (80 %)
-  say_and_wait(rig, 1, wire::Read{kPresentLoad, 2});
-  CHECK(last_reply(rig) == "id=1 error=0x20 params=C8 00");  // Holding torque: 20.0 %
-  CHECK(item_now(rig, servo, "torque_limit") == 1000);       // not rewritten
+  ask(rig, 1, wire::Read{kPresentLoad, 2});
+  CHECK(last_status(rig) == "id=1 error=0x20 params=C8 00");  // Holding torque: 20.0 %
+  CHECK(item_now(rig, servo, "torque_limit") == 1000);        // not rewritten
   CHECK(item_now(rig, servo, "torque_switch") == 1);
 
   SECTION("it outlasts the load, and a Goal position write ends it") {
     block_shaft(servo, false);
     rig.run(3s);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x20");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x20");
     CHECK(item_now(rig, servo, "servo_status") == 0x20);
     // Holding torque is enough for the free shaft: it gets there, tripped.
     CHECK(std::abs(item_now(rig, servo, "present_position") - 3000) <= 2);
     // The goal write's own status is already clean.
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(1000)});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(1000)});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     CHECK(item_now(rig, servo, "servo_status") == 0);
     rig.run(3s);
     CHECK(std::abs(item_now(rig, servo, "present_position") - 1000) <= 2);
   }
   SECTION("a shaft still blocked gets its full torque back and trips it again") {
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     rig.run(100ms);  // the new move's error builds up: the full torque
     CHECK(item_now(rig, servo, "present_load") == 1000);
     rig.run(1800ms);
@@ -177,25 +133,25 @@ TEST_CASE("A FEETECH overload leaves Holding torque until the next position comm
     CHECK(item_now(rig, servo, "present_load") == 200);
   }
   SECTION("a SYNC WRITE of Goal position ends it") {
-    say(rig, kFtBroadcast, wire::SyncWrite{kGoalPosition, 2, {{1, word(3000)}}});
+    send(rig, kFtBroadcast, wire::SyncWrite{kGoalPosition, 2, {{1, le16(3000)}}});
     rig.run(100ms);
     CHECK(item_now(rig, servo, "servo_status") == 0);
     CHECK(item_now(rig, servo, "present_load") == 1000);
   }
   SECTION("a REG WRITE of Goal position does not, its ACTION does") {
-    say_and_wait(rig, 1, wire::RegWrite{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x20");
-    say_and_wait(rig, 1, wire::Action{});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::RegWrite{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x20");
+    ask(rig, 1, wire::Action{});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     rig.run(100ms);
     CHECK(item_now(rig, servo, "present_load") == 1000);
   }
   SECTION("other writes do not: Running speed in position mode, Torque switch off and on") {
-    say_and_wait(rig, 1, wire::Write{kRunningSpeed, word(500)});
-    CHECK(last_reply(rig) == "id=1 error=0x20");
-    say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {0}});
-    say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-    CHECK(last_reply(rig) == "id=1 error=0x20");
+    ask(rig, 1, wire::Write{kRunningSpeed, le16(500)});
+    CHECK(last_status(rig) == "id=1 error=0x20");
+    ask(rig, 1, wire::Write{kTorqueSwitch, {0}});
+    ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+    CHECK(last_status(rig) == "id=1 error=0x20");
     CHECK(item_now(rig, servo, "servo_status") == 0x20);
   }
 }
@@ -205,9 +161,9 @@ TEST_CASE("Without the load bit in Unload condition a FEETECH overload only show
   test::BusRig rig;
   model::Servo& servo = rig.add("feetech/sts3215", 1);
   block_shaft(servo, true);
-  say_and_wait(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload & ~0x20}});
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
+  ask(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload & ~0x20}});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
   rig.run(2100ms);
   CHECK(item_now(rig, servo, "servo_status") == 0x20);
   CHECK(item_now(rig, servo, "present_load") == 1000);  // full torque: nothing tripped
@@ -221,11 +177,11 @@ TEST_CASE("A FEETECH overcurrent cuts the output until the next position command
   test::BusRig rig;
   model::Servo& servo = rig.add("feetech/sts3215", 1);
   block_shaft(servo, true);
-  say_and_wait(rig, 1, wire::Write{kLock, {0}});
-  say_and_wait(rig, 1, wire::Write{kProtectionCurrent, word(100)});  // 650 mA
-  say_and_wait(rig, 1, wire::Write{kOvercurrentTime, {50}});         // 500 ms
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
+  ask(rig, 1, wire::Write{kLock, {0}});
+  ask(rig, 1, wire::Write{kProtectionCurrent, le16(100)});  // 650 mA
+  ask(rig, 1, wire::Write{kOvercurrentTime, {50}});         // 500 ms
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
   rig.run(450ms);
   CHECK(item_now(rig, servo, "servo_status") == 0);
   CHECK(item_now(rig, servo, "present_current") >= 100);
@@ -240,17 +196,17 @@ TEST_CASE("A FEETECH overcurrent cuts the output until the next position command
   SECTION("the bit and the cut outlast the current; a Goal position write ends them") {
     block_shaft(servo, false);
     rig.run(1s);
-    say_and_wait(rig, 1, wire::Read{kPresentPosition, 2});
-    CHECK(last_reply(rig) == "id=1 error=0x08 params=00 08");  // unloaded: still at 2048
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Read{kPresentPosition, 2});
+    CHECK(last_status(rig) == "id=1 error=0x08 params=00 08");  // unloaded: still at 2048
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     rig.run(2s);
     CHECK(std::abs(item_now(rig, servo, "present_position") - 3000) <= 2);
     CHECK(item_now(rig, servo, "servo_status") == 0);
   }
   SECTION("a shaft still blocked draws the current again and trips it again") {
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     rig.run(100ms);
     CHECK(item_now(rig, servo, "present_current") >= 100);
     rig.run(500ms);
@@ -263,20 +219,20 @@ TEST_CASE("A FEETECH supply out of its limits unloads the motor until it is back
           "[bus][feetech][faults][motion]") {
   test::BusRig rig;
   model::Servo& servo = rig.add("feetech/sts3215", 1);
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  say_and_wait(rig, 1, wire::Write{kGoalPosition, word(1000)});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kGoalPosition, le16(1000)});
   rig.run(2s);
   REQUIRE(std::abs(item_now(rig, servo, "present_position") - 1000) <= 2);
 
   SECTION("with the voltage bit in Unload condition") {
-    say_and_wait(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload | kVoltageBit}});
+    ask(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload | kVoltageBit}});
     set_supply(servo, 9.0);  // over Maximum input voltage, 8.0 V
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x01");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x01");
     // A goal write does not end it, and the unloaded motor does not move.
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x01");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x01");
     rig.run(2s);
     CHECK(std::abs(item_now(rig, servo, "present_position") - 1000) <= 2);
     CHECK(item_now(rig, servo, "torque_switch") == 1);
@@ -284,16 +240,16 @@ TEST_CASE("A FEETECH supply out of its limits unloads the motor until it is back
     // The supply back within its limits: the bit goes and the motor goes on by itself.
     set_supply(servo, 7.4);
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     rig.run(2s);
     CHECK(std::abs(item_now(rig, servo, "present_position") - 3000) <= 2);
   }
   SECTION("at the factory Unload condition (no voltage bit) the bit shows and the motor moves") {
     set_supply(servo, 3.5);  // under Minimum input voltage, 4.0 V
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(1500)});
-    CHECK(last_reply(rig) == "id=1 error=0x01");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(1500)});
+    CHECK(last_status(rig) == "id=1 error=0x01");
     rig.run(3s);
     CHECK(std::abs(item_now(rig, servo, "present_position") - 1500) <= 2);
   }
@@ -303,25 +259,25 @@ TEST_CASE("A FEETECH over-temperature switches the torque off, its bit stays whi
           "[bus][feetech][faults][motion]") {
   test::BusRig rig;
   model::Servo& servo = rig.add("feetech/sts3215", 1);
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  say_and_wait(rig, 1, wire::Write{kGoalPosition, word(1000)});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kGoalPosition, le16(1000)});
   rig.run(2s);
   heat_winding(servo, 75);
   rig.run(10ms);
-  say_and_wait(rig, 1, wire::Read{kTorqueSwitch, 1});
-  CHECK(last_reply(rig) == "id=1 error=0x04 params=00");
+  ask(rig, 1, wire::Read{kTorqueSwitch, 1});
+  CHECK(last_status(rig) == "id=1 error=0x04 params=00");
   CHECK(item_now(rig, servo, "torque_limit") == 1000);
   // Switched on while still hot: accepted, and off again at the next tick.
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
-  CHECK(last_reply(rig) == "id=1 error=0x04");
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  CHECK(last_status(rig) == "id=1 error=0x04");
   CHECK(item_now(rig, servo, "torque_switch") == 0);
   rig.run(5s);  // cooling towards 25 degrees: still over 70
   CHECK(item_now(rig, servo, "servo_status") == 0x04);
   rig.run(60s);
-  say_and_wait(rig, 1, wire::Ping{});
-  CHECK(last_reply(rig) == "id=1 error=0x00");
+  ask(rig, 1, wire::Ping{});
+  CHECK(last_status(rig) == "id=1 error=0x00");
   CHECK(item_now(rig, servo, "torque_switch") == 0);  // the torque stays off: it was switched off
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
   rig.run(10ms);
   CHECK(item_now(rig, servo, "torque_switch") == 1);
 }
@@ -337,20 +293,20 @@ TEST_CASE("Injected FEETECH errors last while their rule lasts, whatever the cli
   SECTION("overload: Holding torque while injected, through a position command") {
     servo.motion().set_injected(model::fault_set(HardwareFault::Overload));
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Read{kPresentLoad, 2});
-    CHECK(last_reply(rig) == "id=1 error=0x20 params=C8 00");
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x20");
+    ask(rig, 1, wire::Read{kPresentLoad, 2});
+    CHECK(last_status(rig) == "id=1 error=0x20 params=C8 00");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x20");
     servo.motion().set_injected(0);
     rig.run(100ms);  // the move the goal write restarted has built up its error again
-    say_and_wait(rig, 1, wire::Read{kPresentLoad, 2});
-    CHECK(last_reply(rig) == "id=1 error=0x00 params=E8 03");  // full torque again
+    ask(rig, 1, wire::Read{kPresentLoad, 2});
+    CHECK(last_status(rig) == "id=1 error=0x00 params=E8 03");  // full torque again
   }
   SECTION("overcurrent: the output off while injected, through a position command") {
     servo.motion().set_injected(model::fault_set(HardwareFault::ElectricalShock));
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Write{kGoalPosition, word(3000)});
-    CHECK(last_reply(rig) == "id=1 error=0x08");
+    ask(rig, 1, wire::Write{kGoalPosition, le16(3000)});
+    CHECK(last_status(rig) == "id=1 error=0x08");
     CHECK(item_now(rig, servo, "present_load") == 0);
     servo.motion().set_injected(0);
     rig.run(100ms);
@@ -358,26 +314,26 @@ TEST_CASE("Injected FEETECH errors last while their rule lasts, whatever the cli
     CHECK(item_now(rig, servo, "present_load") == 1000);
   }
   SECTION("encoder (selected): unloaded until Torque limit is written, as before") {
-    say_and_wait(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload | kEncoderBit}});
+    ask(rig, 1, wire::Write{kUnloadCondition, {kFactoryUnload | kEncoderBit}});
     servo.motion().set_injected(model::fault_set(HardwareFault::Encoder));
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x02");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x02");
     CHECK(item_now(rig, servo, "present_load") == 0);
     servo.motion().set_injected(0);
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x00");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x00");
     CHECK(item_now(rig, servo, "present_load") == 0);
     CHECK(item_now(rig, servo, "torque_limit") == 1000);  // never rewritten
-    say_and_wait(rig, 1, wire::Write{kTorqueLimit, word(1000)});
+    ask(rig, 1, wire::Write{kTorqueLimit, le16(1000)});
     CHECK(item_now(rig, servo, "present_load") == 1000);
   }
   SECTION("encoder (not selected at the factory): only the bit") {
     servo.motion().set_injected(model::fault_set(HardwareFault::Encoder));
     rig.run(10ms);
-    say_and_wait(rig, 1, wire::Ping{});
-    CHECK(last_reply(rig) == "id=1 error=0x02");
+    ask(rig, 1, wire::Ping{});
+    CHECK(last_status(rig) == "id=1 error=0x02");
     CHECK(item_now(rig, servo, "present_load") == 1000);
   }
 }
@@ -389,14 +345,14 @@ TEST_CASE("In FEETECH wheel mode a Running speed write is the command that ends 
   model::Conditions c = servo.motion().conditions();
   c.external_load_nm = -4;  // more than the motor's 1.86 N·m, against the wheel
   servo.motion().set_conditions(c);
-  say_and_wait(rig, 1, wire::Write{kOperatingMode, {1}});
-  say_and_wait(rig, 1, wire::Write{kRunningSpeed, word(1000)});
-  say_and_wait(rig, 1, wire::Write{kTorqueSwitch, {1}});
+  ask(rig, 1, wire::Write{kOperatingMode, {1}});
+  ask(rig, 1, wire::Write{kRunningSpeed, le16(1000)});
+  ask(rig, 1, wire::Write{kTorqueSwitch, {1}});
   rig.run(2100ms);
   CHECK(item_now(rig, servo, "servo_status") == 0x20);
   CHECK(item_now(rig, servo, "present_load") == 200);
-  say_and_wait(rig, 1, wire::Write{kRunningSpeed, word(1000)});
-  CHECK(last_reply(rig) == "id=1 error=0x00");
+  ask(rig, 1, wire::Write{kRunningSpeed, le16(1000)});
+  CHECK(last_status(rig) == "id=1 error=0x00");
   CHECK(item_now(rig, servo, "present_load") == 1000);
 }
 

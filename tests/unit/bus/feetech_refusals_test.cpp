@@ -7,40 +7,30 @@
 #include <fstream>
 #include <sstream>
 
-#include "bus_rig.hpp"
+#include "feetech_rig.hpp"
 #include "model/spec/model_loader.hpp"
 
 namespace dxlemu {
 namespace {
 
 using namespace std::chrono_literals;
+using namespace test::feetech;
 using test::BusRig;
 using test::kBroadcast;
 using test::line;
 using wire::Protocol;
 
-constexpr std::uint32_t kFeetechRate = 1'000'000;  // every FEETECH model's factory rate
-// The FEETECH models' processing time (docs/feetech.md "Reply timing").
-constexpr sim::SimDuration kFeetechProcessing = 50us;
 // STS3215's table ends with Acceleration multiplier (86); SCS0009's with Acceleration (83).
 constexpr std::uint8_t kStsTableSize = 87;
 constexpr std::uint8_t kScsTableSize = 84;
 // STS3215 Acceleration limit: a read-only factory parameter LeRobot writes 254 to.
 constexpr std::uint8_t kStsAccelerationLimit = 85;
 
-std::size_t send_feetech(BusRig& rig, std::uint8_t id, wire::Instruction instruction) {
-  return rig.send({Protocol::Feetech, id, std::move(instruction)}, kFeetechRate);
-}
-
 /// The bytes of `packet` with its checksum broken.
 std::vector<std::uint8_t> with_bad_checksum(const wire::InstructionPacket& packet) {
   std::vector<std::uint8_t> bytes = wire::encode_instruction(packet);
   bytes.back() ^= 0x01;
   return bytes;
-}
-
-std::string feetech_status(const bus::LoopbackLink::Delivery& d) {
-  return test::status_text(d.bytes, Protocol::Feetech);
 }
 
 const std::string kStsPath = std::string(DXLEMU_MODELS_DIR) + "/feetech/sts3215.json";
@@ -80,7 +70,7 @@ TEST_CASE("A FEETECH servo stays silent to a packet with a bad checksum", "[bus]
        {wire::Instruction{wire::Ping{}}, wire::Instruction{wire::Read{56, 2}},
         wire::Instruction{wire::Write{42, {0x00, 0x08}}}}) {
     rig.bus.receive(with_bad_checksum({Protocol::Feetech, 1, instruction}), rig.scheduler.now(),
-                    kFeetechRate);
+                    kRate);
     rig.run();
   }
   CHECK(rig.link.deliveries().empty());
@@ -88,13 +78,12 @@ TEST_CASE("A FEETECH servo stays silent to a packet with a bad checksum", "[bus]
   CHECK(rig.bus.servos()[0]->table().get("goal_position") == 2048);  // the write did not land
   // The servo is none the worse: the next good packet is answered on time.
   const sim::SimTime sent_at = rig.scheduler.now();
-  const std::size_t sent = send_feetech(rig, 1, wire::Ping{});
+  const std::size_t sent = send(rig, 1, wire::Ping{});
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
   CHECK(rig.link.deliveries()[0].bytes ==
         std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x00, 0xFC});
-  CHECK(rig.link.deliveries()[0].at ==
-        sent_at + line(sent, kFeetechRate) + kFeetechProcessing + line(6, kFeetechRate));
+  CHECK(rig.link.deliveries()[0].at == sent_at + line(sent, kRate) + kProcessing + line(6, kRate));
 }
 
 TEST_CASE("A FEETECH servo stays silent to an instruction it does not know or cannot make out",
@@ -103,22 +92,22 @@ TEST_CASE("A FEETECH servo stays silent to an instruction it does not know or ca
   rig.add("feetech/sts3215", 1);
   rig.add("feetech/scs0009", 2);
   SECTION("an unknown instruction byte, DYNAMIXEL's Bulk Read code among them") {
-    send_feetech(rig, 1, wire::UnknownInstruction{0x92, {}});
+    send(rig, 1, wire::UnknownInstruction{0x92, {}});
     rig.run();
-    send_feetech(rig, 1, wire::UnknownInstruction{0x30, {0x01, 0x02}});
+    send(rig, 1, wire::UnknownInstruction{0x30, {0x01, 0x02}});
     rig.run();
   }
   SECTION("a malformed instruction: a READ with one parameter, a PING with one") {
     rig.bus.receive(std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x03, 0x02, 0x38, 0xC1},
-                    rig.scheduler.now(), kFeetechRate);
+                    rig.scheduler.now(), kRate);
     rig.run();
     rig.bus.receive(std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x03, 0x01, 0x00, 0xFA},
-                    rig.scheduler.now(), kFeetechRate);
+                    rig.scheduler.now(), kRate);
     rig.run();
     CHECK(rig.bus.stats().decode_errors == 2);
   }
   SECTION("position calibration on SCS, whose firmware has no such instruction") {
-    send_feetech(rig, 2, wire::PositionCalibration{});
+    send(rig, 2, wire::PositionCalibration{});
     rig.run();
   }
   CHECK(rig.link.deliveries().empty());
@@ -127,21 +116,21 @@ TEST_CASE("A FEETECH servo stays silent to an instruction it does not know or ca
 TEST_CASE("A FEETECH READ outside the table gets no reply, in whole or in part", "[bus][feetech]") {
   BusRig rig;
   rig.add("feetech/sts3215", 1);
-  send_feetech(rig, 1, wire::Read{90, 2});  // past the end
+  send(rig, 1, wire::Read{90, 2});  // past the end
   rig.run();
-  send_feetech(rig, 1, wire::Read{kStsTableSize - 1, 2});  // its last byte and one past it
+  send(rig, 1, wire::Read{kStsTableSize - 1, 2});  // its last byte and one past it
   rig.run();
-  send_feetech(rig, 1, wire::Read{0, 255});  // more than the whole table
+  send(rig, 1, wire::Read{0, 255});  // more than the whole table
   rig.run();
   CHECK(rig.link.deliveries().empty());
   // Up to the table's last byte it is answered, undefined addresses (71 ~ 79 on STS) included.
-  send_feetech(rig, 1, wire::Read{kStsTableSize - 1, 1});
+  send(rig, 1, wire::Read{kStsTableSize - 1, 1});
   rig.run();
-  send_feetech(rig, 1, wire::Read{70, 17});
+  send(rig, 1, wire::Read{70, 17});
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 2);
-  CHECK(feetech_status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
+  CHECK(status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
   CHECK(d[0].bytes.size() == 7);
   CHECK(d[1].bytes.size() == 6 + 17);
 }
@@ -149,10 +138,10 @@ TEST_CASE("A FEETECH READ outside the table gets no reply, in whole or in part",
 TEST_CASE("A FEETECH READ outside the table is silent at Response level 0 too", "[bus][feetech]") {
   BusRig rig;
   rig.add("feetech/sts3215", 1).table().set("response_status_level", 0);
-  send_feetech(rig, 1, wire::Read{kStsTableSize, 1});
+  send(rig, 1, wire::Read{kStsTableSize, 1});
   rig.run();
   CHECK(rig.link.deliveries().empty());
-  send_feetech(rig, 1, wire::Read{56, 2});
+  send(rig, 1, wire::Read{56, 2});
   rig.run();
   CHECK(rig.link.deliveries().size() == 1);
 }
@@ -164,26 +153,24 @@ TEST_CASE("A SYNC READ part outside a servo's table silences it and stops the ch
   rig.add("feetech/scs0009", 2);
   rig.add("feetech/sts3215", 3);
   SECTION("within the STS3215 table, past the SCS0009's") {
-    const std::size_t sent =
-        send_feetech(rig, kBroadcast, wire::SyncRead{kScsTableSize, 3, {1, 2, 3}});
+    const std::size_t sent = send(rig, kBroadcast, wire::SyncRead{kScsTableSize, 3, {1, 2, 3}});
     rig.run(2s);
     // ID 1 answers; ID 2 has nothing to send, and ID 3 waits for its status in vain.
     const auto& d = rig.link.deliveries();
     REQUIRE(d.size() == 1);
-    CHECK(feetech_status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
-    CHECK(d[0].at == sim::SimTime{} + line(sent, kFeetechRate) + kFeetechProcessing +
-                         line(6 + 3, kFeetechRate));
+    CHECK(status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
+    CHECK(d[0].at == sim::SimTime{} + line(sent, kRate) + kProcessing + line(6 + 3, kRate));
   }
   SECTION("the silent servo listed last: the ones before it answer") {
-    send_feetech(rig, kBroadcast, wire::SyncRead{kScsTableSize, 3, {3, 1, 2}});
+    send(rig, kBroadcast, wire::SyncRead{kScsTableSize, 3, {3, 1, 2}});
     rig.run(2s);
     const auto& d = rig.link.deliveries();
     REQUIRE(d.size() == 2);
-    CHECK(feetech_status(d[0]).rfind("id=3 ", 0) == 0);
-    CHECK(feetech_status(d[1]).rfind("id=1 ", 0) == 0);
+    CHECK(status(d[0]).rfind("id=3 ", 0) == 0);
+    CHECK(status(d[1]).rfind("id=1 ", 0) == 0);
   }
   SECTION("past every table: nobody answers") {
-    send_feetech(rig, kBroadcast, wire::SyncRead{kStsTableSize - 1, 2, {1, 2, 3}});
+    send(rig, kBroadcast, wire::SyncRead{kStsTableSize - 1, 2, {1, 2, 3}});
     rig.run(2s);
     CHECK(rig.link.deliveries().empty());
   }
@@ -195,13 +182,13 @@ TEST_CASE("Where FEETECH servos share an ID, one whose table is too short drops 
   rig.add("feetech/sts3215", 1);
   rig.add("feetech/scs0009", 1);
   rig.add("feetech/sts3215", 2);
-  send_feetech(rig, kBroadcast, wire::SyncRead{kScsTableSize, 1, {1, 2}});
+  send(rig, kBroadcast, wire::SyncRead{kScsTableSize, 1, {1, 2}});
   rig.run(2s);
   // The STS3215 at ID 1 answers alone (no collision), and ID 2 follows it.
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 2);
-  CHECK(feetech_status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
-  CHECK(feetech_status(d[1]).rfind("id=2 error=0x00 params=", 0) == 0);
+  CHECK(status(d[0]).rfind("id=1 error=0x00 params=", 0) == 0);
+  CHECK(status(d[1]).rfind("id=2 error=0x00 params=", 0) == 0);
   CHECK(rig.bus.stats().id_conflicts == 0);
 }
 
@@ -211,7 +198,7 @@ TEST_CASE("A FEETECH write the table refuses is acknowledged with error 0 and ch
   model::Servo& servo = rig.add("feetech/sts3215", 1);
   const std::int64_t before = servo.table().get("acceleration_limit");
   SECTION("a read-only factory parameter (LeRobot's write of 254 to 85)") {
-    send_feetech(rig, 1, wire::Write{kStsAccelerationLimit, {254}});
+    send(rig, 1, wire::Write{kStsAccelerationLimit, {254}});
     rig.run();
     REQUIRE(rig.link.deliveries().size() == 1);
     CHECK(rig.link.deliveries()[0].bytes ==
@@ -219,14 +206,14 @@ TEST_CASE("A FEETECH write the table refuses is acknowledged with error 0 and ch
     CHECK(servo.table().get("acceleration_limit") == before);
   }
   SECTION("a value out of range, and past the table") {
-    send_feetech(rig, 1, wire::Write{26, {17}});  // Positive deadband 0 ~ 16
+    send(rig, 1, wire::Write{26, {17}});  // Positive deadband 0 ~ 16
     rig.run();
-    send_feetech(rig, 1, wire::Write{kStsTableSize, {1}});
+    send(rig, 1, wire::Write{kStsTableSize, {1}});
     rig.run();
     const auto& d = rig.link.deliveries();
     REQUIRE(d.size() == 2);
-    CHECK(feetech_status(d[0]) == "id=1 error=0x00");
-    CHECK(feetech_status(d[1]) == "id=1 error=0x00");
+    CHECK(status(d[0]) == "id=1 error=0x00");
+    CHECK(status(d[1]) == "id=1 error=0x00");
     CHECK(servo.table().get("positive_deadband") == 1);
   }
 }
@@ -234,10 +221,10 @@ TEST_CASE("A FEETECH write the table refuses is acknowledged with error 0 and ch
 TEST_CASE("FEETECH ACTION with nothing registered is answered as any ACTION", "[bus][feetech]") {
   BusRig rig;
   rig.add("feetech/sts3215", 1);
-  send_feetech(rig, 1, wire::Action{});
+  send(rig, 1, wire::Action{});
   rig.run();
   REQUIRE(rig.link.deliveries().size() == 1);
-  CHECK(feetech_status(rig.link.deliveries()[0]) == "id=1 error=0x00");
+  CHECK(status(rig.link.deliveries()[0]) == "id=1 error=0x00");
 }
 
 TEST_CASE("A model file's refusal_bits give a refusal a bit instead of silence, or silence",
@@ -252,24 +239,24 @@ TEST_CASE("A model file's refusal_bits give a refusal a bit instead of silence, 
   rig.bus.add_servo(std::make_unique<model::Servo>(spec, 1));
   rig.add("feetech/sts3215", 2);
   rig.bus.receive(with_bad_checksum({Protocol::Feetech, 1, wire::Ping{}}), rig.scheduler.now(),
-                  kFeetechRate);
+                  kRate);
   rig.run();
-  send_feetech(rig, 1, wire::UnknownInstruction{0x92, {}});
+  send(rig, 1, wire::UnknownInstruction{0x92, {}});
   rig.run();
-  send_feetech(rig, 1, wire::Read{kStsTableSize, 2});
+  send(rig, 1, wire::Read{kStsTableSize, 2});
   rig.run();
-  send_feetech(rig, 1, wire::Write{kStsAccelerationLimit, {254}});  // silent now
+  send(rig, 1, wire::Write{kStsAccelerationLimit, {254}});  // silent now
   rig.run();
   // A SYNC READ part outside the table answered with the bit: the chain goes on to ID 2, whose
   // model keeps its family's silence.
-  send_feetech(rig, kBroadcast, wire::SyncRead{kStsTableSize - 1, 2, {1, 2}});
+  send(rig, kBroadcast, wire::SyncRead{kStsTableSize - 1, 2, {1, 2}});
   rig.run();
   const auto& d = rig.link.deliveries();
   REQUIRE(d.size() == 4);
   CHECK(d[0].bytes == std::vector<std::uint8_t>{0xFF, 0xFF, 0x01, 0x02, 0x10, 0xEC});
-  CHECK(feetech_status(d[1]) == "id=1 error=0x40");
-  CHECK(feetech_status(d[2]) == "id=1 error=0x80");  // no data
-  CHECK(feetech_status(d[3]) == "id=1 error=0x80");
+  CHECK(status(d[1]) == "id=1 error=0x40");
+  CHECK(status(d[2]) == "id=1 error=0x80");  // no data
+  CHECK(status(d[3]) == "id=1 error=0x80");
 }
 
 TEST_CASE("A model file's refusal_bits keep the family's answers it does not name",
