@@ -5,7 +5,10 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 
 #include "feetech_rig.hpp"
 #include "model/spec/model_loader.hpp"
