@@ -6,12 +6,12 @@
 set(DXLEMU_TEST_COSTS
   app.check_accepts_a_robot_profile 0.1
   app.check_accepts_the_documented_example_config 0.1
-  app.cpack_makes_a_deb 6.5
-  app.install_finds_models_relative_to_the_binary 3.8
+  app.cpack_makes_a_deb 6.1
+  app.install_finds_models_relative_to_the_binary 8.0
   app.models_filter_matching_nothing_says_so_on_stderr_and_exits_0 0.1
-  app.models_filters_by_family_protocol_and_name 4.2
-  app.models_lists_firmware_variants 1.6
-  app.models_lists_the_library 1.6
+  app.models_filters_by_family_protocol_and_name 2.6
+  app.models_lists_firmware_variants 1.3
+  app.models_lists_the_library 1.3
   app.models_name_filter_matches_the_title_ignoring_case 0.1
   app.models_refuses_a_bad_file_naming_file_pointer_and_reason 0.1
   app.models_refuses_an_unknown_family_naming_the_known_ones 0.1
@@ -21,105 +21,120 @@ set(DXLEMU_TEST_COSTS
   app.run_refuses_an_unknown_firmware_naming_the_known_ones 0.1
   app.run_refuses_an_unknown_robot_naming_the_known_ones 0.1
   app.run_refuses_robot_with_config 0.1
+  docs.architecture_names_every_source_file 0.2
   docs.readme_documents_every_run_option 0.2
   docs.readme_lists_what_setup_installs 0.2
   docs.relative_links_resolve 0.3
   e2e.adapter 2.4
-  e2e.clone 7.9
+  e2e.clone 7.8
   e2e.control 2.3
-  e2e.control_table 2.6
-  e2e.ctl 1.4
-  e2e.daemon 4.4
-  e2e.exec 2.5
-  e2e.feetech_session 0.6
-  e2e.firmware 0.4
-  e2e.late_replies 2.4
-  e2e.lerobot_flows 4.0
-  e2e.pcap_dissector 3.6
-  e2e.physics 0.5
-  e2e.robot_startup 2.0
-  e2e.sdk_client 12.7
+  e2e.control_table 2.0
+  e2e.ctl 1.1
+  e2e.daemon 3.8
+  e2e.exec 2.7
+  e2e.feetech_session 0.7
+  e2e.firmware 0.3
+  e2e.late_replies 2.6
+  e2e.lerobot_flows 1.6
+  e2e.pcap_dissector 10.8
+  e2e.physics 0.4
+  e2e.robot_startup 2.3
+  e2e.sdk_client 13.2
   e2e.settings 1.6
-  examples.corrupted_replies_retry 0.6
+  examples.corrupted_replies_retry 0.4
   examples.overheat_reboot 2.4
   examples.unplug_replug 2.5
-  fuzz.bus.smoke 6.6
-  fuzz.bus_feetech.smoke 7.0
-  fuzz.control.smoke 5.8
-  fuzz.loaders.smoke 3.4
-  fuzz.wire_feetech.smoke 3.3
-  fuzz.wire_v1.smoke 6.9
-  fuzz.wire_v2.smoke 8.4
+  fuzz.bus.smoke 5.9
+  fuzz.bus_feetech.smoke 5.1
+  fuzz.control.smoke 3.9
+  fuzz.loaders.smoke 3.1
+  fuzz.wire_feetech.smoke 2.4
+  fuzz.wire_v1.smoke 4.5
+  fuzz.wire_v2.smoke 4.9
   layering.core_has_no_asio_and_no_clock 0.1
-  models.converter_output_is_current 4.1
-  models.converter_unit 2.3
+  models.converter_output_is_current 4.5
+  models.converter_unit 2.6
   models.feetech_converter_output_is_current 0.3
   models.feetech_converter_unit 0.3
-  models.sdk_control_tables_agree 1.1
-  models.sdk_control_tables_unit 0.3
-  python.installed_tree_serves_the_plugin_and_its_binary 2.0
+  models.sdk_control_tables_agree 1.3
+  models.sdk_control_tables_unit 0.2
+  python.installed_tree_serves_the_plugin_and_its_binary 1.6
   python.package 4.5
-  python.pip_install_offline_then_plain_pytest 8.9
-  reliability.acknowledged_eeprom_write_survives_kill 3.6
-  reliability.control_abuse 5.0
+  python.pip_install_offline_then_plain_pytest 10.2
+  reliability.acknowledged_eeprom_write_survives_kill 3.8
+  reliability.control_abuse 4.7
   reliability.garbage_soak 10.4
-  reliability.late_replies 2.2
-  reliability.pty_cycles 1.9
-  reliability.state_kill 4.3
-  reliability.unread_replies_do_not_pile_up 4.3
-  tests.unit_cases_are_all_run_and_safely_named 0.4
+  reliability.late_replies 2.1
+  reliability.pty_cycles 1.8
+  reliability.state_kill 3.9
+  reliability.unread_replies_do_not_pile_up 3.5
+  tests.unit_cases_are_all_run_and_safely_named 0.5
   unit.app.app_fuzz_findings 0.1
   unit.app.bus_config 0.2
-  unit.scan.bus_scan 0.2
-  unit.app.bus_state 0.2
+  unit.app.bus_options 0.1
+  unit.app.bus_state 0.1
   unit.app.ctl_request 0.1
   unit.app.exec_setup 0.1
   unit.app.json_line 0.1
-  unit.app.model_library 1.1
+  unit.app.make_servo 0.1
+  unit.app.model_library 0.7
   unit.app.pcap_writer 0.1
   unit.app.physics_config 0.1
-  unit.app.robot_library 0.4
+  unit.app.port_link_chain 0.1
+  unit.app.robot_library 0.3
+  unit.app.state_keeper 0.1
+  unit.app.trace_fan_out 0.1
   unit.app.trace_record 0.1
-  unit.bus.bus 0.2
+  unit.bus.bus 0.1
   unit.bus.bus_fuzz_findings 0.1
   unit.bus.bus_rules 0.2
-  unit.bus.catalogue_families 0.5
+  unit.bus.catalogue_families 0.4
   unit.bus.coverage 0.2
   unit.bus.feetech_bus 0.2
+  unit.bus.feetech_field_behaviour 0.1
+  unit.bus.feetech_protection 0.2
+  unit.bus.feetech_refusals 0.2
   unit.bus.firmware_variants 0.2
   unit.bus.late_reply_guard 0.1
-  unit.bus.motion_bus 0.3
+  unit.bus.motion_bus 0.2
   unit.bus.read_request 0.1
   unit.bus.usb_adapter_link 0.1
-  unit.control.api 0.3
+  unit.control.api 0.2
   unit.control.control_fuzz_findings 0.1
   unit.faults.fault_bus 0.2
   unit.faults.injector 0.2
   unit.faults.port_faults 0.1
   unit.faults.rule_parser 0.1
+  unit.io.atomic_file 0.1
+  unit.io.child_process 0.1
+  unit.io.control_server 0.1
+  unit.io.pty_link 0.1
   unit.io.pty_list 0.1
+  unit.io.realtime_driver 0.1
   unit.io.serial_device 0.1
-  unit.model.access_matrix 0.2
+  unit.io.socket_file 0.1
+  unit.io.wake_lead 0.1
+  unit.model.access_matrix 0.1
   unit.model.control_table 0.1
   unit.model.device_write 0.1
-  unit.model.dynamixel_y 1.5
+  unit.model.dynamixel_y 1.2
   unit.model.family_traits 0.1
   unit.model.model_fuzz_findings 0.1
   unit.model.model_loader 0.2
-  unit.model.motion 2.6
-  unit.model.profile 3.1
-  unit.model.reading_settings 3.0
-  unit.model.rest_values 2.8
-  unit.model.servo 0.3
-  unit.model.shipped_models 15.0
-  unit.model.value_encoding 0.2
+  unit.model.motion 2.5
+  unit.model.profile 2.8
+  unit.model.reading_settings 2.5
+  unit.model.rest_values 2.6
+  unit.model.servo 0.2
+  unit.model.shipped_models 9.7
+  unit.model.value_encoding 0.1
   unit.physics.arm 0.3
   unit.physics.pendulum 0.2
   unit.physics.physics_commands 0.1
   unit.physics.world_clock 0.1
+  unit.scan.bus_scan 0.2
   unit.sim.rng 0.1
   unit.sim.scheduler 0.1
-  unit.io.wake_lead 0.1
   unit.wire.checks 0.1
   unit.wire.decoder 0.1
   unit.wire.fast_reply 0.1
@@ -131,6 +146,7 @@ set(DXLEMU_TEST_COSTS
   unit.wire.raw_bytes 0.2
   unit.wire.split 0.1
   unit.wire.stuffing 0.1
+  wire.protocol_table_copies_agree 0.3
 )
 
 # dxlemu_apply_test_costs(): gives every test of the current directory that the table names its
