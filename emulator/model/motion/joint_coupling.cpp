@@ -40,8 +40,11 @@ double JointCoupling::shaft_position() const {
 }
 
 void JointCoupling::drive(physics::World& world, sim::SimTime tick_end) {
+  // The motor first: its tick takes in device-side changes that may move the shaft the hand
+  // then pushes.
+  const double motor_torque = motion_.begin_coupled_tick(tick_end);
   const double shaft_torque =
-      motion_.begin_coupled_tick(tick_end) + motion_.conditions().external_load_nm;
+      motor_torque + motion_.conditions().external_load_nm + motion_.coupled_hand_torque(tick_end);
   // Virtual work: a shaft torque τ through `gear` is gear·τ at the joint.
   world.set_torque(mapping_.joint, mapping_.gear * mapping_.direction * shaft_torque);
 }

@@ -24,10 +24,10 @@ struct JointMapping {
 
 /// A servo's motion model acting on one joint of a WorldClock's world (docs/physics.md). Each
 /// tick: the motor's torque (MotorPhysics::drive, through the gear) plus the servo's external
-/// load goes onto the joint; after the world's steps the shaft follows the joint and the servo
-/// runs its protection and publishes its Present values. The motor's rotor inertia, seen through
-/// the gear, is added to the joint. Made by MotionModel::couple(); detaches itself when
-/// destroyed.
+/// load and a hand's push goes onto the joint; after the world's steps the shaft follows the joint
+/// and the servo runs its protection and publishes its Present values. The motor's rotor inertia,
+/// seen through the gear, is added to the joint. Made by MotionModel::couple(); detaches itself
+/// when destroyed.
 class JointCoupling : public physics::JointActuator {
  public:
   JointCoupling(MotionModel& motion, physics::WorldClock& clock, const JointMapping& mapping);

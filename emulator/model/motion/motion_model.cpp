@@ -286,6 +286,11 @@ void MotionModel::set_conditions(const Conditions& conditions) {
   wake();
 }
 
+void MotionModel::set_hand(std::shared_ptr<const Hand> hand) {
+  hand_ = std::move(hand);
+  wake();
+}
+
 void MotionModel::set_injected(FaultSet faults) {
   protection_.set_injected(faults);
   wake();
@@ -348,7 +353,8 @@ void MotionModel::run_tick() {
   const bool was_running = motion_.profile_running();
   const double torque_share = motion_.protection_torque_share;
   motion_.state_time = next_tick_;
-  motion_.motor.step(command(), motion_.conditions);
+  const std::optional<Grip> grip = hand_ ? hand_->grip(next_tick_) : std::nullopt;
+  motion_.motor.step(command(), motion_.conditions, grip ? &*grip : nullptr);
   protection_.check();
   publish();
   const MotorState& after = motion_.motor.state();
@@ -358,7 +364,8 @@ void MotionModel::run_tick() {
   // tick on, though this one changed nothing.
   const bool still = after == same_heat && !was_running && !after.at_limit &&
                      (drive_->mode() == Mode::Velocity || motion_.velocity_demand == 0) &&
-                     motion_.protection_torque_share == torque_share;
+                     motion_.protection_torque_share == torque_share &&
+                     (!grip || hand_->still_from(next_tick_));
   if (!still) {
     activity_ = Activity::Active;
   } else if (after.temperature_c == before.temperature_c) {
@@ -381,6 +388,11 @@ double MotionModel::begin_coupled_tick(sim::SimTime tick_end) {
   motion_.state_time = tick_end;
   next_tick_ = tick_end + tick_;
   return motion_.motor.drive(command(), motion_.conditions);
+}
+
+double MotionModel::coupled_hand_torque(sim::SimTime tick_end) const {
+  const std::optional<Grip> grip = hand_ ? hand_->grip(tick_end) : std::nullopt;
+  return grip ? motion_.motor.coupled_hand_torque(*grip) : 0.0;
 }
 
 void MotionModel::end_coupled_tick(double position, double velocity) {

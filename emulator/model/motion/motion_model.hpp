@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "model/motion/drive.hpp"
+#include "model/motion/hand.hpp"
 #include "model/motion/hardware_fault.hpp"
 #include "model/motion/joint_coupling.hpp"
 #include "model/motion/motion_context.hpp"
@@ -47,6 +48,12 @@ class MotionModel {
   /// The servo's surroundings: ambient temperature, supply voltage, external load, blocked.
   const Conditions& conditions() const { return motion_.conditions; }
   void set_conditions(const Conditions& conditions);
+
+  /// A hand holds the shaft from the next tick on (docs/hands.md), replacing any other; null:
+  /// no hand holds it. The model shares `hand` with whoever made it.
+  void set_hand(std::shared_ptr<const Hand> hand);
+  /// The hand holding the shaft, or null.
+  const Hand* hand() const { return hand_.get(); }
 
   /// Hardware errors forced from outside (fault injection): each is detected as if its
   /// condition were real, for as long as it is set.
@@ -124,6 +131,9 @@ class MotionModel {
   // A coupled tick in two halves around the world's steps: the motor's torque for the tick
   // ending at `tick_end` (N·m at the shaft), then the shaft where the world moved it.
   double begin_coupled_tick(sim::SimTime tick_end);
+  /// The hand's torque on a coupled shaft for the tick ending at `tick_end`, N·m at the shaft
+  /// (0 without a hand).
+  double coupled_hand_torque(sim::SimTime tick_end) const;
   void end_coupled_tick(double position, double velocity);
   void publish_realtime_tick(sim::SimTime now);
   void run_tick();
@@ -154,6 +164,7 @@ class MotionModel {
   enum class Activity { Active, Cooling, Resting };
   Activity activity_ = Activity::Active;
   std::unique_ptr<JointCoupling> coupling_;
+  std::shared_ptr<const Hand> hand_;
 };
 
 }  // namespace dxlemu::model

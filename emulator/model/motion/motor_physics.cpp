@@ -98,11 +98,42 @@ double MotorPhysics::follow(const DriveCommand& command, const Conditions& condi
   return v;
 }
 
-void MotorPhysics::step(const DriveCommand& command, const Conditions& conditions) {
+double MotorPhysics::nearest_turn(const Grip& grip) const {
+  const double turn = params_.pulses_per_rev;
+  return grip.position + std::round((state_.position - grip.position) / turn) * turn;
+}
+
+double MotorPhysics::hand_torque(const Grip& grip) const {
+  // A hand is stiffer than anything a tick can resolve: it pushes with what it takes to have the
+  // free shaft on its position at the end of the tick, as far as its force goes.
+  const double wanted = (nearest_turn(grip) - state_.position) / tick_ms_;
+  const double needed = params_.inertia * (wanted - state_.velocity) / tick_ms_;
+  return std::clamp(needed, -grip.force_limit_nm, grip.force_limit_nm);
+}
+
+double MotorPhysics::coupled_hand_torque(const Grip& grip) const {
+  // The world integrates a joint whose inertia the servo does not know: a spring no stiffer than
+  // the servo's own position loop (stable there by construction), with its back-EMF's damping.
+  const double stiffness = params_.stall_torque_nm / (kFullTorqueErrorRev * params_.pulses_per_rev);
+  const double damping = params_.stall_torque_nm / params_.no_load_speed;
+  const double torque = stiffness * (nearest_turn(grip) - state_.position) +
+                        damping * (grip.velocity - state_.velocity);
+  return std::clamp(torque, -grip.force_limit_nm, grip.force_limit_nm);
+}
+
+void MotorPhysics::step(const DriveCommand& command, const Conditions& outside, const Grip* grip) {
+  // A hand is one more external load, unless the motor gives no torque (below).
+  Conditions conditions = outside;
+  if (grip != nullptr) {
+    conditions.external_load_nm += hand_torque(*grip);
+  }
   const double supply = std::max(0.0, conditions.supply_v);
   // What the motor can give at standstill: the supply over the winding, and the controller's cap.
   const double stall_at_supply = params_.stall_torque_nm * supply / params_.nominal_voltage_v;
-  double cap = std::min(command.torque_cap_nm, stall_at_supply * std::max(0.0, command.duty_cap));
+  // What the limits leave the motor; the goal's own cap (Goal Current) may ask for less.
+  const double limit =
+      std::min(command.torque_cap_nm, stall_at_supply * std::max(0.0, command.duty_cap));
+  double cap = std::min(limit, command.goal_cap_nm);
   DriveCommand limited = command;
   limited.torque_cap_nm = cap;
   double torque = 0;
@@ -113,7 +144,13 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   switch (kind) {
     case DriveCommand::Kind::Off:
       cap = 0;
-      velocity = free_velocity(conditions);
+      if (grip != nullptr && !conditions.blocked) {
+        // A free shaft goes where the hand takes it (a leader arm moved by hand): its friction
+        // is far below any hand's force.
+        velocity = (nearest_turn(*grip) - state_.position) / tick_ms_;
+      } else {
+        velocity = free_velocity(conditions);
+      }
       break;
     case DriveCommand::Kind::Follow:
       velocity = follow(limited, conditions, torque);
@@ -142,7 +179,7 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& condition
   if (std::abs(velocity) < kVelocitySnap) {
     velocity = 0;
   }
-  state_.at_limit = cap > 0 && std::abs(torque) >= kAtLimit * cap;
+  state_.at_limit = cap > 0 && std::abs(torque) >= kAtLimit * limit;
   state_.velocity = velocity;
   state_.position += velocity * tick_ms_;
   state_.torque_nm = torque;
@@ -163,7 +200,8 @@ double MotorPhysics::drive(const DriveCommand& command, const Conditions& condit
   const double supply = std::max(0.0, conditions.supply_v);
   const double stall_at_supply = params_.stall_torque_nm * supply / params_.nominal_voltage_v;
   const double duty_cap = std::clamp(command.duty_cap, 0.0, 1.0);
-  const double cap = std::min(command.torque_cap_nm, stall_at_supply * duty_cap);
+  const double limit = std::min(command.torque_cap_nm, stall_at_supply * duty_cap);
+  const double cap = std::min(limit, command.goal_cap_nm);
   const DriveCommand::Kind kind = cap > 0 ? command.kind : DriveCommand::Kind::Off;
   const double v = state_.velocity;
   // Duty per share of the nominal voltage: 1 at the nominal supply.
@@ -202,7 +240,7 @@ double MotorPhysics::drive(const DriveCommand& command, const Conditions& condit
   state_.torque_nm = torque;
   state_.current_a = torque / params_.torque_constant();
   state_.duty = duty;
-  state_.at_limit = kind != DriveCommand::Kind::Off && std::abs(torque) >= kAtLimit * cap;
+  state_.at_limit = kind != DriveCommand::Kind::Off && std::abs(torque) >= kAtLimit * limit;
   return torque;
 }
 

@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "model/motion/hand.hpp"
 #include "model/spec/motor_params.hpp"
 
 namespace dxlemu::model {
@@ -31,8 +32,12 @@ struct DriveCommand {
   double velocity = 0;
   double torque_nm = 0;  ///< Torque
   double duty = 0;       ///< Pwm: -1 ~ 1
-  /// The most torque the controller may use (Current Limit, Torque Limit, Goal Current).
+  /// The most torque the controller may use by its limits (Current Limit, Torque Limit): at
+  /// that, sustained, the motor is overloaded.
   double torque_cap_nm = std::numeric_limits<double>::infinity();
+  /// The most torque the goal asks for (Goal Current in Current-based Position mode): the motor
+  /// holds at that as long as asked, without overload.
+  double goal_cap_nm = std::numeric_limits<double>::infinity();
   /// PWM Limit as a fraction of the supply: bounds speed in every mode.
   double duty_cap = 1;
 };
@@ -45,8 +50,9 @@ struct MotorState {
   double current_a = 0;
   double duty = 0;  ///< -1 ~ 1
   double temperature_c = 25;
-  /// The motor gives all the torque it can at standstill (blocked, overpowered, or asked for
-  /// more): what sustained, raises Overload Error.
+  /// The motor gives all the torque its limits let it at standstill (blocked, overpowered, or
+  /// asked for more): what sustained, raises Overload Error. Not at a goal's own cap
+  /// (DriveCommand::goal_cap_nm).
   bool at_limit = false;
 
   bool operator==(const MotorState&) const = default;
@@ -60,8 +66,16 @@ class MotorPhysics {
   /// A motor with `params`, ticking every `tick_ms`, its shaft at `position`.
   MotorPhysics(const MotorParams& params, double tick_ms, double position, double temperature_c);
 
-  /// Advances one tick under `command` and `conditions`.
-  void step(const DriveCommand& command, const Conditions& conditions);
+  /// Advances one tick under `command` and the `outside` conditions, the shaft held by `grip` when
+  /// it is not null (docs/hands.md): with torque off it is where the grip is at the end of the
+  /// tick; with torque on the hand pushes it there with up to the grip's force, an external load
+  /// the motor meets.
+  void step(const DriveCommand& command, const Conditions& outside, const Grip* grip = nullptr);
+
+  /// The torque a hand at `grip` puts on a shaft coupled to a physics world, N·m at the output:
+  /// a spring as stiff as the servo's own position loop, damped as its back-EMF damps it, up to
+  /// the grip's force.
+  double coupled_hand_torque(const Grip& grip) const;
 
   /// A shaft coupled to a physics world (docs/physics.md), first half of a tick: the torque the
   /// motor puts on its shaft for the tick under `command`, from the shaft's state at its start.
@@ -93,6 +107,10 @@ class MotorPhysics {
   double free_velocity(const Conditions& conditions) const;
   double available(double direction, double cap, double supply, double duty_cap) const;
   void heat(const Conditions& conditions);
+  /// `grip`'s position on the turn nearest the shaft, pulses.
+  double nearest_turn(const Grip& grip) const;
+  /// The torque that lands a free shaft on `grip` at the end of this tick, within its force.
+  double hand_torque(const Grip& grip) const;
 
   MotorParams params_;
   double tick_ms_;

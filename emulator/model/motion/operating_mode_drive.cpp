@@ -67,16 +67,25 @@ class OperatingModeDrive final : public Drive {
     if (motion_.protection_torque_share < 1) {
       cap = std::min(cap, motion_.protection_torque_share * p.stall_torque_nm);
     }
-    if (mode() == Mode::CurrentPosition && items.goal_current && p.current_unit_a) {
-      cap = std::min(cap, std::abs(static_cast<double>(motion_.get(items.goal_current))) *
-                              *p.current_unit_a * p.torque_constant());
-    }
     return cap;
+  }
+
+  // Current-based Position Control Mode: Goal Current bounds the torque as the goal asks, which
+  // the servo holds as long as it is asked to (a gripper squeezing), unlike a limit.
+  double goal_cap() const {
+    const MotorParams& p = motion_.motor.params();
+    const MotionItems& items = motion_.items;
+    if (mode() == Mode::CurrentPosition && items.goal_current && p.current_unit_a) {
+      return std::abs(static_cast<double>(motion_.get(items.goal_current))) * *p.current_unit_a *
+             p.torque_constant();
+    }
+    return std::numeric_limits<double>::infinity();
   }
 
   DriveCommand command() override {
     DriveCommand c;
     c.torque_cap_nm = torque_cap();
+    c.goal_cap_nm = goal_cap();
     c.duty_cap = motion_.duty_cap();
     const MotorParams& p = motion_.motor.params();
     const MotionItems& items = motion_.items;
