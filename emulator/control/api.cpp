@@ -9,6 +9,7 @@
 #include "control/clock_commands.hpp"
 #include "control/condition_commands.hpp"
 #include "control/fault_commands.hpp"
+#include "control/hand_commands.hpp"
 #include "control/item_commands.hpp"
 #include "control/physics_commands.hpp"
 #include "control/port_commands.hpp"
@@ -64,6 +65,15 @@ const std::vector<Command>& commands() {
       {"scenario.load", {"file", "scenario"}, scenario_load},
       {"trace.subscribe", {"port"}, trace_subscribe},
       {"trace.unsubscribe", {}, trace_unsubscribe},
+      {"hand", {"port"}, hand_state},
+      {"hand.play",
+       {"port", "file", "loop", "speed", "start_s", "interpolation", "force_limit_nm"},
+       hand_play},
+      {"hand.sweep", {"port", "joints", "order", "speed_deg_s", "force_limit_nm"}, hand_sweep},
+      {"hand.move",
+       {"port", "joint", "position", "units", "duration_s", "force_limit_nm"},
+       hand_move},
+      {"hand.stop", {"port", "joints"}, hand_stop},
       {"physics", {"joint"}, physics_state},
       {"physics.apply", {"joint", "body", "torque_nm", "force_n"}, physics_apply},
       {"clock.now", {}, clock_now},
@@ -192,6 +202,9 @@ std::optional<std::string> Api::check(Target& target, const ordered_json& reques
     }
     if (command.name == "fault.add") {
       rule_of(target, args.value("rule"));
+    }
+    if (command.name.starts_with("hand.")) {
+      check_hand_request(target, args);
     }
     if (command.name == "physics" || command.name == "physics.apply") {
       check_physics_request(target, args);

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "bus/bus_stats.hpp"
@@ -13,9 +16,20 @@ namespace dxlemu::control {
 /// booting) and what a hand on the cable does to it, and the port's counters. The commands read
 /// and change a servo itself through model::Servo; everything about the line goes through here.
 /// Target::port() hands it out; app::BusPortView implements it on a bus::Bus.
+/// A servo of a port by the name the robot's software gives its joint (docs/robots.md "Joints"),
+/// and the range the joint moves through, degrees of the shaft from its middle.
+struct JointView {
+  std::string name;
+  std::uint8_t id = 0;
+  std::optional<std::pair<double, double>> range_deg;
+};
+
 class PortView {
  public:
   virtual ~PortView() = default;
+
+  /// The port's named joints, as its config names them; empty when it names none.
+  virtual std::vector<JointView> joints() const { return {}; }
 
   /// The servos on the port, in the order the port was configured. The port owns them.
   virtual std::vector<model::Servo*> servos() const = 0;

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -11,6 +12,7 @@
 #include "control/physics_view.hpp"
 #include "control/port_view.hpp"
 #include "faults/injector.hpp"
+#include "model/hand/trajectory.hpp"
 #include "sim/sim_time.hpp"
 
 namespace dxlemu::control {
@@ -30,6 +32,10 @@ class Target {
   virtual nlohmann::json port_info(std::string_view port) const = 0;
   /// The physics world the servos drive, or nullptr when the config has none. The target owns it.
   virtual PhysicsView* physics() = 0;
+  /// The trajectory a hand plays (docs/hands.md): the file `file`, or the shipped trajectory of
+  /// that name. Throws std::exception whose what() names the file, the line and the reason when
+  /// it cannot be read or is not a valid trajectory.
+  virtual std::shared_ptr<const model::Trajectory> trajectory(const std::string& file) = 0;
   /// Simulated time now (the scheduler's clock).
   virtual sim::SimTime now() const = 0;
   /// True when simulated time only moves by clock.step (--timing manual).
