@@ -247,12 +247,13 @@ class TrajectoryBuilder {
 
   void push_value(double value) { rows_.back().push_back(value); }
 
-  /// The trajectory; `columns_line` is where the columns were named, for "no keyframe".
+  /// The trajectory; `columns_line` is where the columns were named.
   Trajectory build(std::size_t columns_line) && {
     if (times_s_.empty()) {
       fail(columns_line, "no keyframe follows");
     }
-    return {std::move(columns_), std::move(times_s_), rows_, std::move(lines_), origin_};
+    return {std::move(columns_), std::move(times_s_), rows_, std::move(lines_), origin_,
+            columns_line};
   }
 
  private:

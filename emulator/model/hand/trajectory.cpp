@@ -43,11 +43,12 @@ double inner_slope(double before, double h_before, double after, double h_after)
 
 Trajectory::Trajectory(std::vector<TrajectoryColumn> columns, std::vector<double> times_s,
                        const std::vector<std::vector<double>>& rows, std::vector<std::size_t> lines,
-                       std::string origin)
+                       std::string origin, std::size_t columns_line)
     : columns_(std::move(columns)),
       times_s_(std::move(times_s)),
       lines_(std::move(lines)),
-      origin_(std::move(origin)) {
+      origin_(std::move(origin)),
+      columns_line_(columns_line) {
   if (columns_.empty()) {
     throw std::invalid_argument("a trajectory needs at least one column");
   }

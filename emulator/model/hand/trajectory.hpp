@@ -62,10 +62,11 @@ class Trajectory {
   /// at most kMaxMagnitude). `lines[r]` is the line of the file that row r came from (empty: all
   /// 0, built in code); `origin` the file name or a description ("sweep"). At least one row and
   /// one column; column joints non-empty and distinct. Throws std::invalid_argument naming the
-  /// first violation. The cubic's slopes are computed here.
+  /// first violation. `columns_line` is the line that named the columns (a CSV header, the first
+  /// JSON object; 0 when built in code). The cubic's slopes are computed here.
   Trajectory(std::vector<TrajectoryColumn> columns, std::vector<double> times_s,
              const std::vector<std::vector<double>>& rows, std::vector<std::size_t> lines = {},
-             std::string origin = {});
+             std::string origin = {}, std::size_t columns_line = 0);
 
   /// The joint columns, in the order written.
   const std::vector<TrajectoryColumn>& columns() const { return columns_; }
@@ -85,6 +86,8 @@ class Trajectory {
   }
   /// The file line row `row` (< row_count()) came from; 0 when the row was built in code.
   std::size_t line(std::size_t row) const { return lines_[row]; }
+  /// The file line that named the columns (for a refusal of a column); 0 when built in code.
+  std::size_t columns_line() const { return columns_line_; }
   /// The file name, or a description of what built it.
   const std::string& origin() const { return origin_; }
   /// The last keyframe's time, seconds: the trajectory runs from 0 to here.
@@ -106,6 +109,7 @@ class Trajectory {
   std::vector<double> slopes_;
   std::vector<std::size_t> lines_;
   std::string origin_;
+  std::size_t columns_line_ = 0;
 };
 
 }  // namespace dxlemu::model

@@ -81,6 +81,7 @@ TEST_CASE("A CSV trajectory names its joints in the header, with units and servo
   CHECK(keyframes(t) == std::vector<std::vector<double>>{
                             {0, 0, 2048, 10}, {0.5, -12.5, 2100, 10}, {2, 0.5, 1900, 0}});
   CHECK(lines_of(t) == std::vector<std::size_t>{4, 6, 8});
+  CHECK(t.columns_line() == 3);
 }
 
 TEST_CASE("A CSV trajectory may have CRLF, a byte order mark and spaces around cells",
@@ -111,6 +112,7 @@ TEST_CASE("A JSON lines trajectory takes its columns from the first object, in o
   CHECK(keyframes(t) == std::vector<std::vector<double>>{
                             {0, 10, 2048, 0}, {0.5, 20, 2100, -1.5}, {1, 30, 1000, 2}});
   CHECK(lines_of(t) == std::vector<std::size_t>{2, 4, 5});
+  CHECK(t.columns_line() == 2);
   // The time may be anywhere in the first object too, and spelled time_s or t.
   const auto u = app::parse_trajectory("{\"a\": 1, \"t\": 0}\n{\"t\": 1, \"a\": 2}", "u.jsonl",
                                        TrajectoryFormat::JsonLines);

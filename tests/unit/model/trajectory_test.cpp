@@ -51,7 +51,7 @@ using trajectory_test_helpers::sweep_joints;
 
 TEST_CASE("A trajectory keeps its columns, keyframes, lines and origin", "[hand]") {
   const Trajectory t({{"shoulder_pan", JointUnit::Degrees}, {"3", JointUnit::Raw}}, {0.5, 1, 2},
-                     {{1, 2048}, {2, 2100}, {3, 1900}}, {4, 6, 7}, "pick.csv");
+                     {{1, 2048}, {2, 2100}, {3, 1900}}, {4, 6, 7}, "pick.csv", 2);
   CHECK(t.columns()[1] == TrajectoryColumn{"3", JointUnit::Raw});
   CHECK(t.find_column("3") == 1);
   CHECK(t.find_column("shoulder_pan") == 0);
@@ -62,9 +62,11 @@ TEST_CASE("A trajectory keeps its columns, keyframes, lines and origin", "[hand]
         std::vector<double>{2048, 2100, 1900});
   CHECK(t.line(1) == 6);
   CHECK(t.origin() == "pick.csv");
+  CHECK(t.columns_line() == 2);
   CHECK(t.duration_s() == 2);
   // Built in code: every line is 0.
   CHECK(one_column({0, 1}, {0, 1}).line(1) == 0);
+  CHECK(one_column({0, 1}, {0, 1}).columns_line() == 0);
 }
 
 TEST_CASE("Linear interpolation moves at constant speed between keyframes", "[hand]") {
