@@ -31,6 +31,9 @@ constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
 constexpr std::array<std::string_view, 3> kTimeNames{"time", "time_s", "t"};
 /// How much of a cell or key a message quotes: a hostile file's megabyte cell stays out of it.
 constexpr std::size_t kMaxQuoted = 40;
+/// How much of nlohmann-json's description of a syntax error a message keeps (it ends with what
+/// it last read, which can be long).
+constexpr std::size_t kMaxDetail = 120;
 /// Why a file with too many joint columns is refused.
 const std::string kTooManyJoints = "more than " + std::to_string(kMaxTrajectoryColumns) +
                                    " joints, the most a trajectory may have";
@@ -44,15 +47,19 @@ std::string number_text(double value) {
   return {digits.begin(), end};
 }
 
-/// `text` in double quotes for a message: at most kMaxQuoted characters, bytes that are not
-/// printable ASCII shown as '?'.
-std::string in_quotes(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text.substr(0, kMaxQuoted)) {
+/// `text` for a message: at most `limit` characters (then "..."), bytes that are not printable
+/// ASCII shown as '?'.
+std::string printable(std::string_view text, std::size_t limit) {
+  std::string out;
+  for (const char c : text.substr(0, limit)) {
     out += c >= ' ' && c <= '~' ? c : '?';
   }
-  out += text.size() > kMaxQuoted ? "...\"" : "\"";
-  return out;
+  return text.size() > limit ? out + "..." : out;
+}
+
+/// `text` in double quotes for a message, shortened as printable() does to kMaxQuoted.
+std::string in_quotes(std::string_view text) {
+  return "\"" + printable(text, kMaxQuoted) + "\"";
 }
 
 std::string_view trim(std::string_view text) {
@@ -386,8 +393,15 @@ class FlatObjectReader : public nlohmann::json_sax<nlohmann::json> {
     if (ex.id == kNumberOverflow) {
       return refuse("has a number too large to be read: " + in_quotes(last_token));
     }
-    return refuse("is not JSON: a syntax error at character " + std::to_string(position) +
-                  ", after " + in_quotes(last_token));
+    // nlohmann-json's own words say what it expected ("syntax error while parsing object -
+    // unexpected end of input; expected '}'"); the line and column it counts are within this one
+    // line, so only the character is kept.
+    const std::string_view what = ex.what();
+    const auto words = what.find("syntax error");
+    const std::string detail = words == std::string_view::npos
+                                   ? "syntax error"
+                                   : printable(what.substr(words), kMaxDetail);
+    return refuse("is not JSON: " + detail + " (at character " + std::to_string(position) + ")");
   }
 
  private:

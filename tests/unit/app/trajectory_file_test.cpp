@@ -236,12 +236,15 @@ TEST_CASE("A malformed JSON lines trajectory is refused with its line and the re
     INFO(text);
     CHECK(trajectory_refusal(text, TrajectoryFormat::JsonLines) == "pick.csv: " + message);
   }
+  CHECK(trajectory_refusal("{\"time\": 0, \"a\": 1", TrajectoryFormat::JsonLines) ==
+        "pick.csv: line 1: is not JSON: syntax error while parsing object - unexpected end of "
+        "input; expected '}' (at character 19)");
   for (const std::string text :
        {"{\"time\": 0, \"a\": 1", "{\"time\": 0, \"a\": 1} x", "{\"time\": 0, 'a': 1}",
         "{\"time\": 0, \"a\": 01}", "{\"time\": 0, \"\xff\": 1}"}) {
     INFO(text);
     CHECK_THAT(trajectory_refusal(text, TrajectoryFormat::JsonLines),
-               Catch::StartsWith("pick.csv: line 1: is not JSON: a syntax error at character "));
+               Catch::StartsWith("pick.csv: line 1: is not JSON: syntax error while parsing "));
   }
 }
 
