@@ -168,7 +168,7 @@ std::optional<Span> span_of(const HandJoint& joint) {
               static_cast<double>(spec.items[*high].initial), JointUnit::Raw};
 }
 
-std::string span_text(const HandJoint& joint, const Span& span) {
+std::string span_text(const Span& span) {
   return (span.unit == JointUnit::Degrees ? "its range " : "the servo's position limits ") +
          number_text(span.low) + " ~ " + number_text(span.high) + unit_text(span.unit);
 }
@@ -182,7 +182,7 @@ void check_in_span(const HandJoint& joint, double value, JointUnit unit, const s
   const double in_span = joint.scale.from_pulses(joint.scale.to_pulses(value, unit), span->unit);
   if (in_span < span->low - kRangeSlack || in_span > span->high + kRangeSlack) {
     refuse(where + joint.name + " " + number_text(value) + unit_text(unit) + " is outside " +
-           span_text(joint, *span));
+           span_text(*span));
   }
 }
 
@@ -263,7 +263,7 @@ double hand_value_now(Target& target, const HandJoint& joint, JointUnit unit) {
   return joint.scale.from_pulses(joint.servo->motion().motor().position, unit);
 }
 
-void apply(const Port& port, const std::vector<Placement>& placements) {
+void place_hands(const Port& port, const std::vector<Placement>& placements) {
   // Motion up to now runs without the new hands; they hold from now on.
   port.view.catch_up();
   for (const Placement& placement : placements) {
@@ -336,7 +336,7 @@ PreparedPlay prepare_play(Target& target, const Port& port, const Args& args) {
            trajectory->origin() + " (" + number_text(trajectory->duration_s()) + " s)");
   }
   const std::string header =
-      trajectory->origin() + ": line " + std::to_string(trajectory->header_line()) + ": ";
+      trajectory->origin() + ": line " + std::to_string(trajectory->columns_line()) + ": ";
   std::vector<HandJoint> joints;
   PreparedPlay prepared;
   for (std::size_t c = 0; c < trajectory->columns().size(); ++c) {
@@ -513,7 +513,7 @@ ordered_json hand_play(Target& target, const Args& args) {
   const Port port = port_of(target, args);
   port.view.catch_up();
   PreparedPlay prepared = prepare_play(target, port, args);
-  apply(port, prepared.placements);
+  place_hands(port, prepared.placements);
   return std::move(prepared.result);
 }
 
@@ -521,7 +521,7 @@ ordered_json hand_sweep(Target& target, const Args& args) {
   const Port port = port_of(target, args);
   port.view.catch_up();
   PreparedPlay prepared = prepare_sweep(target, port, args);
-  apply(port, prepared.placements);
+  place_hands(port, prepared.placements);
   return std::move(prepared.result);
 }
 
@@ -529,7 +529,7 @@ ordered_json hand_move(Target& target, const Args& args) {
   const Port port = port_of(target, args);
   port.view.catch_up();
   PreparedPlay prepared = prepare_move(target, port, args);
-  apply(port, prepared.placements);
+  place_hands(port, prepared.placements);
   return std::move(prepared.result);
 }
 

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/config/trajectory_file.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "bus/bus.hpp"
 #include "bus/loopback_link.hpp"
@@ -46,6 +47,8 @@ class PortsTarget : public control::Target {
   std::map<std::uint64_t, std::vector<std::string>> subscriptions;  // by client
   std::vector<std::string> warnings;
   control::PhysicsView* world = nullptr;  // what physics() returns
+  /// What trajectory() returns for a name; any other name is read as a file.
+  std::map<std::string, std::shared_ptr<const model::Trajectory>> trajectories;
 
   /// Adds a port named `name` under the target's fault rules.
   Port& add_port(const std::string& name) {
@@ -78,6 +81,12 @@ class PortsTarget : public control::Target {
     return {{"pty", "/dev/pts/" + std::string(name)}};
   }
   control::PhysicsView* physics() override { return world; }
+  std::shared_ptr<const model::Trajectory> trajectory(const std::string& file) override {
+    if (const auto known = trajectories.find(file); known != trajectories.end()) {
+      return known->second;
+    }
+    return std::make_shared<const model::Trajectory>(app::read_trajectory_file(file));
+  }
   sim::SimTime now() const override { return scheduler.now(); }
   bool manual_clock() const override { return manual; }
   void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "bus/bus.hpp"
@@ -16,6 +17,9 @@ class BusPortView final : public control::PortView {
   explicit BusPortView(bus::Bus& bus, const bus::LateReplyGuard* guard = nullptr)
       : bus_(bus), guard_(guard) {}
 
+  /// Names the port's joints (the config's "joints") for joints().
+  void set_joints(std::vector<control::JointView> joints) { joints_ = std::move(joints); }
+  std::vector<control::JointView> joints() const override { return joints_; }
   std::vector<model::Servo*> servos() const override;
   void catch_up() override { bus_.catch_up(); }
   bool attached(const model::Servo& servo) const override { return bus_.attached(servo); }
@@ -28,6 +32,7 @@ class BusPortView final : public control::PortView {
  private:
   bus::Bus& bus_;
   const bus::LateReplyGuard* guard_;
+  std::vector<control::JointView> joints_;
 };
 
 }  // namespace dxlemu::app

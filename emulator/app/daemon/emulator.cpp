@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/config/make_servo.hpp"
+#include "app/config/trajectory_file.hpp"
+#include "app/config/trajectory_library.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "app/daemon/log.hpp"
 #include "app/daemon/port_link_chain.hpp"
@@ -172,6 +174,11 @@ void Emulator::unsubscribe_trace(std::uint64_t connection) {
 
 void Emulator::schedule_in(sim::SimDuration delay, std::function<void()> action) {
   scheduler_.schedule_at(scheduler_.now() + delay, std::move(action));
+}
+
+std::shared_ptr<const model::Trajectory> Emulator::trajectory(const std::string& file) {
+  return std::make_shared<const model::Trajectory>(
+      read_trajectory_file(find_trajectory(file, options_.trajectory_dirs)));
 }
 
 void Emulator::schedule_physics_catch_up() {

@@ -42,6 +42,7 @@ class Emulator : public control::Target {
   control::PortView* port(std::string_view name) override;
   nlohmann::json port_info(std::string_view port) const override;
   control::PhysicsView* physics() override { return physics_view_ ? &*physics_view_ : nullptr; }
+  std::shared_ptr<const model::Trajectory> trajectory(const std::string& file) override;
   sim::SimTime now() const override;
   bool manual_clock() const override;
   void step_clock(sim::SimDuration d) override;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/config/bus_config.hpp"
 #include "bus/late_reply_guard.hpp"
@@ -32,6 +33,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> control;
   /// A scenario file whose steps start with simulated time (docs/faults.md "Scenarios").
   std::optional<std::filesystem::path> scenario;
+  /// Where hand.play and --hand look up a trajectory by name (docs/hands.md "Shipped
+  /// trajectories"), in order.
+  std::vector<std::filesystem::path> trajectory_dirs;
   /// Seeds every random choice of fault injection (docs/faults.md).
   std::uint64_t seed = 1;
   /// Under realtime timing, how much earlier than dxlemu reads them the client's bytes count as

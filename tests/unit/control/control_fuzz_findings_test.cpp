@@ -2,6 +2,8 @@
 // request line the fuzzer's input boiled down to.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "control/api.hpp"
@@ -19,6 +21,9 @@ class EmptyTarget : public control::Target {
   control::PortView* port(std::string_view /*name*/) override { return nullptr; }
   json port_info(std::string_view /*port*/) const override { return json::object(); }
   control::PhysicsView* physics() override { return nullptr; }
+  std::shared_ptr<const model::Trajectory> trajectory(const std::string& file) override {
+    throw std::invalid_argument(file + ": no trajectories here");
+  }
   sim::SimTime now() const override { return {}; }
   bool manual_clock() const override { return true; }
   void step_clock(sim::SimDuration /*d*/) override {}
