@@ -1,9 +1,13 @@
-// libFuzzer target for the two file loaders on arbitrary text: model::parse_model (model files,
-// docs/model-format.md) and app::parse_config (bus configs, docs/config.md). Each either accepts
-// the text or refuses it with its documented error type (ModelError, ConfigError) naming a JSON
-// pointer and a reason; any other exception escapes and is reported as a crash. What a loader
-// accepts must also be usable: a model builds a servo, a config's servos build on a bus.
+// libFuzzer target for the file loaders on arbitrary text: model::parse_model (model files,
+// docs/model-format.md), app::parse_config (bus configs, docs/config.md) and
+// app::parse_trajectory (trajectory files, both formats). Each either accepts the text or refuses
+// it with its documented error type (ModelError, ConfigError) naming a JSON pointer (a trajectory
+// file: a line) and a reason; any other exception escapes and is reported as a crash. What a
+// loader accepts must also be usable: a model builds a servo, a config's servos build on a bus, a
+// trajectory samples within its keyframes' values.
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -14,7 +18,9 @@
 
 #include "app/config/bus_config.hpp"
 #include "app/config/model_library.hpp"
+#include "app/config/trajectory_file.hpp"
 #include "fuzz_require.hpp"
+#include "model/hand/trajectory.hpp"
 #include "model/servo.hpp"
 #include "model/spec/model_error.hpp"
 #include "model/spec/model_loader.hpp"
@@ -87,15 +93,48 @@ void fuzz_config(const std::string& text) {
   }
 }
 
+// Samples of each column at a few times, both interpolations: every value within the column's
+// keyframe values, every rate finite.
+FUZZ_NO_COVERAGE void check_samples(const model::Trajectory& trajectory) {
+  constexpr int kSteps = 8;
+  for (std::size_t c = 0; c < trajectory.columns().size(); ++c) {
+    const auto values = trajectory.column_values(c);
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    for (int i = 0; i <= kSteps; ++i) {
+      const double t = trajectory.duration_s() * i / kSteps;
+      for (const auto interpolation : {model::Interpolation::Linear, model::Interpolation::Cubic}) {
+        const auto sample = trajectory.at(c, t, interpolation);
+        FUZZ_REQUIRE_MSG(sample.value >= *lo && sample.value <= *hi, "column %zu at %g s: %g", c, t,
+                         sample.value);
+        FUZZ_REQUIRE(std::isfinite(sample.rate_per_s));
+      }
+    }
+  }
+}
+
+void fuzz_trajectory(const std::string& text, app::TrajectoryFormat format) {
+  const std::string origin = "fuzz/trajectory";
+  try {
+    check_samples(app::parse_trajectory(text, origin, format));
+  } catch (const app::ConfigError& error) {
+    FUZZ_REQUIRE(error.origin() == origin);
+    FUZZ_REQUIRE_MSG(error.pointer() == "end of file" || error.pointer().starts_with("line "),
+                     "pointer '%s'", error.pointer().c_str());
+    FUZZ_REQUIRE(!error.reason().empty());
+  }
+}
+
 }  // namespace
 }  // namespace dxlemu::fuzz
 
-/// libFuzzer's entry point: the input is the text of a file, given to both loaders.
+/// libFuzzer's entry point: the input is the text of a file, given to every loader.
 // NOLINTNEXTLINE(readability-identifier-naming): the name libFuzzer calls
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): libFuzzer gives bytes
   const std::string text(reinterpret_cast<const char*>(data), size);
   dxlemu::fuzz::fuzz_model(text);
   dxlemu::fuzz::fuzz_config(text);
+  dxlemu::fuzz::fuzz_trajectory(text, dxlemu::app::TrajectoryFormat::Csv);
+  dxlemu::fuzz::fuzz_trajectory(text, dxlemu::app::TrajectoryFormat::JsonLines);
   return 0;
 }

@@ -228,23 +228,24 @@ class TrajectoryBuilder {
                      std::to_string(kMaxTrajectoryRows) + " keyframes and " +
                      std::to_string(kMaxTrajectoryValues) + " values (keyframes times joints)");
     }
-    const std::string time = "time " + number_text(time_s) + " s";
+    // Built only for a refusal: this runs once per keyframe.
+    const auto time = [&] { return "time " + number_text(time_s) + " s"; };
     if (times_s_.empty()) {
       if (time_s < 0) {
-        fail(line, time + " is negative: a trajectory starts at 0 s");
+        fail(line, time() + " is negative: a trajectory starts at 0 s");
       }
     } else {
       const double previous = times_s_.back();
       if (!(time_s > previous)) {
-        fail(line, time + " is not after the previous row's " + number_text(previous) + " s");
+        fail(line, time() + " is not after the previous row's " + number_text(previous) + " s");
       }
       if (time_s - previous < Trajectory::kMinStepS) {
-        fail(line, time + " is less than " + number_text(Trajectory::kMinStepS) +
+        fail(line, time() + " is less than " + number_text(Trajectory::kMinStepS) +
                        " s after the previous row's " + number_text(previous) + " s");
       }
     }
     if (time_s > Trajectory::kMaxTimeS) {
-      fail(line, time + " is later than " + number_text(Trajectory::kMaxTimeS) +
+      fail(line, time() + " is later than " + number_text(Trajectory::kMaxTimeS) +
                      " s, the latest a keyframe may be");
     }
     times_s_.push_back(time_s);
