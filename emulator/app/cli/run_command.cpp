@@ -15,7 +15,9 @@ namespace {
 
 // The one bus of --servo and --link: port dxl0.
 PortConfig port_of_options(const CommandLine& line) {
-  PortConfig port{"dxl0", std::filesystem::path(line.link), {}, {}, {}};
+  PortConfig port;
+  port.name = "dxl0";
+  port.link = std::filesystem::path(line.link);
   std::vector<std::string> servo_options = line.servo_options;
   if (servo_options.empty()) {
     servo_options.emplace_back(kDefaultServos);

@@ -82,9 +82,13 @@ TEST_CASE("A robot header is parsed into the config and a plain config has none"
                       "software":"a driver","notes":"one paragraph"})"),
       "arm-1.json", models());
   REQUIRE(config.robot);
-  CHECK(*config.robot ==
-        app::RobotHeader{
-            "arm-1", "An arm", {"https://example.org/a.yaml"}, "a driver", {"one paragraph"}});
+  CHECK(*config.robot == app::RobotHeader{"arm-1",
+                                          "An arm",
+                                          {"https://example.org/a.yaml"},
+                                          "a driver",
+                                          {"one paragraph"},
+                                          {},
+                                          {}});
   CHECK_FALSE(
       app::parse_config(R"({"ports":[{"name":"a","servos":[]}]})", "bus.json", models()).robot);
 }
@@ -107,7 +111,7 @@ TEST_CASE("A bad robot header is refused naming the file, the JSON pointer and t
         "robot.json: /robot/notes/0: must be a non-empty string");
   CHECK(profile_refusal(with_header(R"({"name":"a","title":"t",)" + source + R"(,"baud":1})")) ==
         "robot.json: /robot/baud: unknown field (allowed: name, title, sources, software, notes, "
-        "description)");
+        "role, pairs_with, description)");
 }
 
 TEST_CASE("A profile whose header names another file, or without a header, is refused",
