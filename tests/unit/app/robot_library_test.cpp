@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "app/config/robot_library.hpp"
 #include "physics/mjcf_world.hpp"
@@ -272,6 +274,61 @@ std::string merge_refusal(const app::RobotLibrary& robots,
 
 }  // namespace robot_pairs_test
 
+TEST_CASE("Every shipped profile names its joints as its software does, each a servo of its port",
+          "[app][robots]") {
+  const std::vector<std::string> lerobot = {"shoulder_pan", "shoulder_lift", "elbow_flex",
+                                            "wrist_flex",   "wrist_roll",    "gripper"};
+  const std::map<std::string, std::vector<std::string>> names = {
+      {"so101-follower", lerobot},
+      {"so101-leader", lerobot},
+      {"koch-v1.1-follower", lerobot},
+      {"koch-v1.1-leader", lerobot},
+      {"openmanipulator-x", {"joint1", "joint2", "joint3", "joint4", "gripper"}},
+      {"openmanipulator-y", {"joint1", "joint2", "joint3", "joint4", "joint5", "joint6"}},
+      {"widowx-250", {"waist", "shoulder", "elbow", "wrist_angle", "wrist_rotate", "gripper"}},
+      {"poppy-ergo-jr", {"m1", "m2", "m3", "m4", "m5", "m6"}},
+  };
+  for (const auto& [name, profile] : shipped().profiles()) {
+    INFO(name);
+    REQUIRE(profile.config.ports.size() == 1);
+    const app::PortConfig& port = profile.config.ports.front();
+    CHECK(port.robot == name);
+    std::vector<std::string> joints;
+    for (const app::JointName& joint : port.joints) {
+      joints.push_back(joint.name);
+      if (joint.range_deg) {
+        // Within a turn either way of the middle of the servo's range, never a point.
+        CHECK(joint.range_deg->first < joint.range_deg->second);
+        CHECK(joint.range_deg->first >= -180);
+        CHECK(joint.range_deg->second <= 180);
+      }
+    }
+    REQUIRE(names.count(name) == 1);
+    CHECK(joints == names.at(name));
+  }
+  // WidowX-250's shadows (3 and 5) move with their masters: no joints of their own.
+  std::set<int> widowx_ids;
+  for (const app::JointName& joint : shipped().find("widowx-250")->config.ports.front().joints) {
+    widowx_ids.insert(joint.id);
+  }
+  CHECK(widowx_ids == std::set<int>{1, 2, 4, 6, 7, 8});
+  // The SO-101's ranges are its MJCF's, joint 0 at position 2048.
+  const auto& so101 = shipped().find("so101-follower")->config.ports.front().joints;
+  CHECK(so101.front().range_deg == std::pair{-110.0, 110.0});
+  CHECK(so101.at(4).range_deg == std::pair{-157.21, 162.79});
+}
+
+TEST_CASE("The shipped leaders and followers pair up: SO-101's and Koch's", "[app][robots]") {
+  CHECK(shipped().pairs() ==
+        std::vector<std::pair<std::string, std::string>>{{"koch-v1.1-leader", "koch-v1.1-follower"},
+                                                         {"so101-leader", "so101-follower"}});
+  const app::RobotHeader& leader = shipped().find("so101-leader")->header();
+  CHECK(leader.role == app::RobotRole::Leader);
+  CHECK(leader.pairs_with == "so101-follower");
+  CHECK(shipped().find("so101-follower")->header().role == app::RobotRole::Follower);
+  CHECK_FALSE(shipped().find("widowx-250")->header().role);
+}
+
 TEST_CASE("A role or pair that does not hold is refused naming the file and the JSON pointer",
           "[app][robots]") {
   using robot_pairs_test::load_refusal;
@@ -308,6 +365,14 @@ TEST_CASE("A role or pair that does not hold is refused naming the file and the 
   write(dir.path(), "b", profile("b", R"("role": "follower", "pairs_with": "a")"));
   const auto robots = app::RobotLibrary::load(DXLEMU_ROBOTS_DIR, {dir.path()}, models());
   CHECK(robots.pairs().front() == std::pair<std::string, std::string>{"a", "b"});
+
+  // A follower naming a shipped leader that names another: refused from the follower's side.
+  test::TempDir other("dxlemu-pairs");
+  write(other.path(), "b", profile("b", R"("role": "follower", "pairs_with": "so101-leader")"));
+  CHECK(load_refusal(other.path()) ==
+        (other.path() / "b.json").string() + ": /robot/pairs_with: so101-leader (" +
+            (fs::path(DXLEMU_ROBOTS_DIR) / "so101-leader.json").string() +
+            ") must name b back in its \"pairs_with\" (it names so101-follower)");
 }
 
 TEST_CASE("Several robots are one bus: ports in order, each named by its robot", "[app][robots]") {
