@@ -3,6 +3,7 @@
 #include <chrono>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 #include "dxlemu/version.hpp"
 
@@ -135,6 +136,70 @@ CLI::App* add_clone(CLI::App& app, CommandLine& line) {
   return cmd;
 }
 
+// run's options that belong to one robot, bound to the --robot before them by their order on
+// the command line (docs/robots.md "Several robots in one daemon"). CLI11 keeps each option's
+// values in the order given and every occurrence in parse_order(), so the binding walks that.
+struct RobotOptions {
+  const CLI::Option* robot = nullptr;
+  const CLI::Option* physics = nullptr;
+  const CLI::Option* hand = nullptr;
+};
+
+// Sets `line.robots`, `line.physics` and `line.hands` from run's parsed `options`. Throws
+// CLI::ValidationError (a refused command line) for an option that belongs to no robot.
+void bind_robot_options(const CLI::App& run, const RobotOptions& options, CommandLine& line) {
+  std::vector<RobotRequest> robots;
+  std::vector<std::string> physics_before;  // given before any --robot
+  std::vector<std::string> hands_before;
+  std::size_t robot_values = 0;
+  std::size_t physics_values = 0;
+  std::size_t hand_values = 0;
+  for (const CLI::Option* option : run.parse_order()) {
+    if (option == options.robot) {
+      robots.push_back({option->results().at(robot_values++), std::nullopt, {}});
+    } else if (option == options.physics) {
+      const std::string& physics = option->results().at(physics_values++);
+      if (robots.empty()) {
+        physics_before.push_back(physics);
+      } else if (robots.back().physics) {
+        throw CLI::ValidationError("--physics", "given twice for robot " + robots.back().name +
+                                                    ": one physics file per robot");
+      } else {
+        robots.back().physics = physics;
+      }
+    } else if (option == options.hand) {
+      const std::string& hand = option->results().at(hand_values++);
+      (robots.empty() ? hands_before : robots.back().hands).push_back(hand);
+    }
+  }
+  if (robots.empty()) {
+    if (physics_before.size() > 1) {
+      throw CLI::ValidationError("--physics", "given twice: a daemon simulates one world");
+    }
+    line.physics = physics_before.empty() ? std::string() : physics_before.front();
+    line.hands = std::move(hands_before);
+    return;
+  }
+  if (robots.size() == 1) {
+    // One robot: whatever is given before --robot is that robot's, as it always was.
+    RobotRequest& robot = robots.front();
+    if (!physics_before.empty() && (physics_before.size() > 1 || robot.physics)) {
+      throw CLI::ValidationError(
+          "--physics", "given twice for robot " + robot.name + ": one physics file per robot");
+    }
+    if (!physics_before.empty()) {
+      robot.physics = physics_before.front();
+    }
+    robot.hands.insert(robot.hands.begin(), hands_before.begin(), hands_before.end());
+  } else if (!physics_before.empty() || !hands_before.empty()) {
+    const char* option = physics_before.empty() ? "--hand" : "--physics";
+    throw CLI::ValidationError(option, std::string("given before the first --robot, with ") +
+                                           std::to_string(robots.size()) +
+                                           " robots: put it after the --robot it is for");
+  }
+  line.robots = std::move(robots);
+}
+
 // run's options that say which servos there are and how they speak; returns --link.
 const CLI::Option* add_bus_options(CLI::App& run, CommandLine& line) {
   line.link = kDefaultLink;
@@ -153,16 +218,37 @@ const CLI::Option* add_bus_options(CLI::App& run, CommandLine& line) {
       run.add_option("--link", line.link, "Stable symlink to port dxl0's PTY, removed on exit")
           ->type_name("PATH")
           ->capture_default_str();
+  // One value per occurrence: each --robot starts the options that belong to that robot.
   auto* robot_option =
-      run.add_option("--robot", line.robot,
-                     "Serve the bus of this robot profile (dxlemu robots lists them; "
-                     "docs/robots.md); --link then names its port's link when it has one port")
-          ->type_name("NAME");
+      run.add_option("--robot",
+                     "Serve the bus of this robot profile (repeatable: several robots in one "
+                     "daemon; dxlemu robots lists them; docs/robots.md); --link then names its "
+                     "port's link when it is one robot with one port")
+          ->type_name("NAME")
+          ->take_all()
+          ->allow_extra_args(false);
+  auto* physics_option =
+      run.add_option("--physics",
+                     "Attach this physics file (an MJCF world and which servo drives which "
+                     "joint), or the shipped one of this NAME, e.g. openmanipulator-x, to the "
+                     "--robot before it, or to the bus (docs/physics.md)")
+          ->type_name("FILE|NAME")
+          ->take_all()
+          ->allow_extra_args(false);
+  auto* hand_option =
+      run.add_option("--hand",
+                     "A virtual hand moving the joints of the --robot before it (repeatable), or "
+                     "of the bus without --robot")
+          ->type_name("HAND")
+          ->take_all()
+          ->allow_extra_args(false);
   servo_option->excludes(config_option);
   link_option->excludes(config_option);
   robot_option->excludes(config_option);
   robot_option->excludes(servo_option);
-  add_physics_option(run, line);
+  run.callback([&run, &line, options = RobotOptions{robot_option, physics_option, hand_option}] {
+    bind_robot_options(run, options, line);
+  });
   add_models_option(run, line);
   add_robots_dir_option(run, line);
   run.add_option("--baud", line.baud,

@@ -9,6 +9,7 @@
 
 #include "app/cli/exec_setup.hpp"
 #include "app/config/model_library.hpp"
+#include "app/config/robot_request.hpp"
 #include "app/daemon/run_options.hpp"
 
 namespace dxlemu::app {
@@ -50,15 +51,20 @@ struct CommandLine {
   std::string check_file;
   /// check --robot NAME; empty with check FILE.
   std::string check_robot;
-  /// --physics of run and check: a physics file, or a shipped one's name; empty: none.
+  /// --physics of check, and of run without --robot: a physics file, or a shipped one's name;
+  /// empty: none. With --robot it is in `robots`.
   std::string physics;
   // run: the bus.
   std::vector<std::string> servo_options;  ///< --servo, before parse_servo_option
   std::string link;                        ///< --link
   std::string config_file;                 ///< --config; empty: --servo and --link
-  std::string robot;                       ///< --robot; empty: none (docs/robots.md)
-  std::optional<std::uint32_t> baud;       ///< --baud
-  std::optional<int> protocol;             ///< --protocol
+  /// Each --robot in command-line order, with the --physics and --hand bound to it (those after
+  /// it; with one robot, those before it too); empty: none (docs/robots.md).
+  std::vector<RobotRequest> robots;
+  /// --hand of run without --robot (with --config or --servo), each value as given.
+  std::vector<std::string> hands;
+  std::optional<std::uint32_t> baud;  ///< --baud
+  std::optional<int> protocol;        ///< --protocol
   // run: the daemon.
   RunOptions options;  ///< what --state, --control, --trace, --pcap, --scenario, --seed set
   std::string timing;  ///< --timing, before kTimingModes

@@ -1,9 +1,11 @@
 #include "app/cli/run_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 
 #include "app/cli/libraries.hpp"
 #include "app/config/bus_options.hpp"
@@ -15,7 +17,9 @@ namespace {
 
 // The one bus of --servo and --link: port dxl0.
 PortConfig port_of_options(const CommandLine& line) {
-  PortConfig port{"dxl0", std::filesystem::path(line.link), {}, {}, {}};
+  PortConfig port;
+  port.name = "dxl0";
+  port.link = std::filesystem::path(line.link);
   std::vector<std::string> servo_options = line.servo_options;
   if (servo_options.empty()) {
     servo_options.emplace_back(kDefaultServos);
@@ -39,14 +43,23 @@ void serve(const CommandLine& line, bool link_given) {
   if (line.handover_us) {
     options.pty_handover = std::chrono::microseconds(*line.handover_us);
   }
+  // The hands' motion is not served yet: refused rather than silently ignored.
+  const bool hands = !line.hands.empty() ||
+                     std::any_of(line.robots.begin(), line.robots.end(),
+                                 [](const RobotRequest& robot) { return !robot.hands.empty(); });
+  if (hands) {
+    throw std::invalid_argument("--hand: this dxlemu serves no virtual hands yet");
+  }
   const auto library = load_library(line.model_dirs);
   BusConfig config;
   if (!line.config_file.empty()) {
     config = read_config(line.config_file, library);
-  } else if (!line.robot.empty()) {
+  } else if (!line.robots.empty()) {
+    // Each robot's --physics is attached in robots_bus, against that robot's own ports.
     const auto robots = load_robots(line.robot_dirs, library);
-    config = robot_bus(robots, line.robot,
-                       link_given ? std::optional<std::filesystem::path>(line.link) : std::nullopt);
+    config =
+        robots_bus(robots, line.robots,
+                   link_given ? std::optional<std::filesystem::path>(line.link) : std::nullopt);
   } else {
     config.ports.push_back(port_of_options(line));
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -15,8 +16,6 @@ namespace dxlemu::app {
 namespace {
 
 using nlohmann::json;
-
-constexpr std::size_t kMaxPortName = 32;
 
 struct AdapterChip {
   const char* name;
@@ -145,19 +144,25 @@ class ConfigParser {
     return out;
   }
 
-  // The header of a robot profile (docs/robots.md "Header").
-  RobotHeader parse_robot(const json& value, const std::string& at) {
-    object(value, at, {"name", "title", "sources", "software", "notes", "description"});
-    RobotHeader robot;
-    robot.name = string(member(value, at, "name"), at + "/name");
-    // The name is typed on command lines and is the profile's file name: lowercase and plain.
-    const bool plain = std::all_of(robot.name.begin(), robot.name.end(), [](char c) {
+  // A robot's name at `at`: typed on command lines and a profile's file name, so lowercase and
+  // plain.
+  std::string robot_name(const json& value, const std::string& at) {
+    std::string name = string(value, at);
+    const bool plain = std::all_of(name.begin(), name.end(), [](char c) {
       return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
     });
-    if (!plain || robot.name.size() > kMaxRobotName || robot.name.front() == '.') {
-      fail(at + "/name",
-           "must be 1 to 40 lowercase letters, digits, '_', '.' or '-', not starting with '.'");
+    if (!plain || name.size() > kMaxRobotName || name.front() == '.') {
+      fail(at, "must be 1 to 40 lowercase letters, digits, '_', '.' or '-', not starting with '.'");
     }
+    return name;
+  }
+
+  // The header of a robot profile (docs/robots.md "Header").
+  RobotHeader parse_robot(const json& value, const std::string& at) {
+    object(value, at,
+           {"name", "title", "sources", "software", "notes", "role", "pairs_with", "description"});
+    RobotHeader robot;
+    robot.name = robot_name(member(value, at, "name"), at + "/name");
     robot.title = string(member(value, at, "title"), at + "/title");
     robot.sources = strings(member(value, at, "sources"), at + "/sources", false);
     for (std::size_t i = 0; i < robot.sources.size(); ++i) {
@@ -173,12 +178,114 @@ class ConfigParser {
     if (value.contains("notes")) {
       robot.notes = strings(value["notes"], at + "/notes", true);
     }
+    if (value.contains("role")) {
+      const std::string role = string(value["role"], at + "/role");
+      for (const RobotRole r : {RobotRole::Leader, RobotRole::Follower}) {
+        if (role == robot_role_name(r)) {
+          robot.role = r;
+        }
+      }
+      if (!robot.role) {
+        fail(at + "/role", "must be \"leader\" or \"follower\"");
+      }
+    }
+    if (value.contains("pairs_with")) {
+      // Which robot the pair's other half is, is checked when every profile is loaded
+      // (RobotLibrary::load): a user's directory may add or replace it.
+      if (!robot.role) {
+        fail(at + "/pairs_with", "needs \"role\": a pair is a leader and a follower");
+      }
+      robot.pairs_with = robot_name(value["pairs_with"], at + "/pairs_with");
+      if (robot.pairs_with == robot.name) {
+        fail(at + "/pairs_with", "must name another robot's profile, not this one");
+      }
+    }
     return robot;
   }
 
+  double number(const json& value, const std::string& at) {
+    if (!value.is_number() || !std::isfinite(value.get<double>())) {
+      fail(at, "must be a number");
+    }
+    return value.get<double>();
+  }
+
+  // "joints" of a port whose servos are parsed: names the robot's software gives them.
+  std::vector<JointName> parse_joints(const json& value, const std::string& at,
+                                      const PortConfig& port) {
+    if (!value.is_array()) {
+      fail(at, "must be an array of joints");
+    }
+    std::vector<JointName> joints;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      const std::string joint_at = at + "/" + std::to_string(i);
+      JointName joint = parse_joint(value[i], joint_at, port);
+      for (const JointName& other : joints) {
+        if (other.name == joint.name) {
+          fail(joint_at + "/name", "joint name \"" + joint.name + "\" is used twice on this port");
+        }
+        if (other.id == joint.id) {
+          fail(joint_at + "/id", "servo " + std::to_string(joint.id) + " is joint \"" + other.name +
+                                     "\" already: one joint per servo");
+        }
+      }
+      joints.push_back(std::move(joint));
+    }
+    return joints;
+  }
+
+  JointName parse_joint(const json& value, const std::string& at, const PortConfig& port) {
+    object(value, at, {"name", "id", "range_deg", "description"});
+    JointName joint;
+    joint.name = string(member(value, at, "name"), at + "/name");
+    // Names are keys of control-API requests and trajectory columns, where a column may also
+    // name a servo by its decimal ID: plain, and never all digits.
+    const bool plain = std::all_of(joint.name.begin(), joint.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.';
+    });
+    const bool digits = std::all_of(joint.name.begin(), joint.name.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c)) != 0;
+    });
+    if (!plain || joint.name.size() > kMaxJointName) {
+      fail(at + "/name", "must be 1 to 40 letters, digits, '_', '-' or '.'");
+    }
+    if (digits) {
+      fail(at + "/name", "must not be all digits (a number names a servo by its ID)");
+    }
+    joint.id =
+        static_cast<std::uint8_t>(integer(member(value, at, "id"), at + "/id", 0, kMaxServoId));
+    if (std::none_of(port.servos.begin(), port.servos.end(),
+                     [&](const ServoConfig& s) { return s.id == joint.id; })) {
+      fail(at + "/id", "port " + port.name + " has no servo " + std::to_string(joint.id));
+    }
+    if (value.contains("range_deg")) {
+      const json& range = value["range_deg"];
+      const std::string range_at = at + "/range_deg";
+      if (!range.is_array() || range.size() != 2) {
+        fail(range_at, "must be [low, high] in degrees");
+      }
+      std::array<double, 2> ends{};
+      for (std::size_t i = 0; i < ends.size(); ++i) {
+        const std::string end_at = range_at + "/" + std::to_string(i);
+        ends.at(i) = number(range[i], end_at);
+        if (std::abs(ends.at(i)) > kMaxJointRangeDeg) {
+          const std::string limit = std::to_string(static_cast<int>(kMaxJointRangeDeg));
+          fail(end_at, range[i].dump() + " is outside -" + limit + " ~ " + limit +
+                           " degrees (8 turns either way)");
+        }
+      }
+      if (!(ends[0] < ends[1])) {
+        fail(range_at, "low " + range[0].dump() + " must be less than high " + range[1].dump());
+      }
+      joint.range_deg = std::pair{ends[0], ends[1]};
+    }
+    return joint;
+  }
+
   PortConfig parse_port(const json& value, const std::string& at) {
-    object(value, at,
-           {"name", "link", "servos", "adapter_latency_ms", "adapter_chip", "description"});
+    object(
+        value, at,
+        {"name", "link", "servos", "adapter_latency_ms", "adapter_chip", "joints", "description"});
     PortConfig port;
     port.name = string(member(value, at, "name"), at + "/name");
     // Port names appear in logs, traces and control-API requests and replies: keep them plain.
@@ -223,6 +330,9 @@ class ConfigParser {
         }
       }
       fail(at + "/servos/" + std::to_string(entry), other_maker_reason(port, *other, library_));
+    }
+    if (value.contains("joints")) {
+      port.joints = parse_joints(value["joints"], at + "/joints", port);
     }
     return port;
   }
@@ -305,6 +415,10 @@ class ConfigParser {
 };
 
 }  // namespace
+
+std::string_view robot_role_name(RobotRole role) {
+  return role == RobotRole::Leader ? "leader" : "follower";
+}
 
 std::optional<std::size_t> adapter_packet_data(std::string_view chip) {
   for (const AdapterChip& c : kAdapterChips) {

@@ -39,6 +39,27 @@ std::optional<std::size_t> adapter_packet_data(std::string_view chip);
 /// The chip names adapter_packet_data() knows, for messages: "ft232h, ft232r".
 std::string adapter_chip_names();
 
+/// The longest port name: names appear in logs, traces and control-API requests.
+inline constexpr std::size_t kMaxPortName = 32;
+
+/// The longest joint name a port may give (docs/config.md "Joints").
+inline constexpr std::size_t kMaxJointName = 40;
+/// How far a joint's range may reach either way from the middle of its servo's position range,
+/// in degrees: eight turns, more than any servo's multi-turn mode is asked to go by a robot.
+inline constexpr double kMaxJointRangeDeg = 360.0 * 8;
+
+/// What a robot's software calls the servo at `id` of a port (its motor or joint name, e.g.
+/// LeRobot's "shoulder_pan"), and the joint's mechanical range where it is known.
+struct JointName {
+  std::string name;
+  std::uint8_t id = 1;
+  /// (low, high): the joint's mechanical range as the servo's shaft sees it, in degrees from the
+  /// middle of the servo's position range (2048 on a 4096-pulse servo, 512 on an XL-320),
+  /// positive towards higher positions; absent when no source gives it.
+  std::optional<std::pair<double, double>> range_deg;
+  bool operator==(const JointName&) const = default;
+};
+
 /// One port: a PTY with an optional stable symlink, and its servos in bus order.
 struct PortConfig {
   std::string name;
@@ -49,8 +70,19 @@ struct PortConfig {
   std::optional<int> adapter_latency_ms;
   /// The adapter's chip on this port; when absent, the command line's --adapter-chip.
   std::optional<std::string> adapter_chip;
+  /// The names the robot's software gives the servos of this port, in file order; at most one
+  /// per ID, each ID a servo of `servos`.
+  std::vector<JointName> joints;
+  /// The robot profile this port is part of (its name); empty for a plain config's port.
+  std::string robot;
   bool operator==(const PortConfig&) const = default;
 };
+
+/// A robot's part in teleoperation: the leader is moved by a hand, the follower copies it.
+enum class RobotRole { Leader, Follower };
+
+/// "leader" or "follower", as profiles spell it.
+std::string_view robot_role_name(RobotRole role);
 
 /// The header of a robot profile (docs/robots.md): which robot this bus is, and where each of its
 /// facts was read. Only descriptive: the ports and servos say what is served.
@@ -60,6 +92,10 @@ struct RobotHeader {
   std::vector<std::string> sources;  ///< URLs of the public files the profile's facts come from
   std::string software;              ///< what drives the robot; empty when not given
   std::vector<std::string> notes;    ///< free text, one paragraph per entry
+  std::optional<RobotRole> role;     ///< leader or follower of a teleoperation pair; absent: none
+  /// The profile of the other half of its pair (opposite role, naming this one back, checked by
+  /// RobotLibrary::load); empty: none.
+  std::string pairs_with;
   bool operator==(const RobotHeader&) const = default;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
 #include <stdexcept>
 #include <system_error>
 
@@ -13,6 +14,11 @@ namespace fs = std::filesystem;
 constexpr const char* kProfileExtension = ".json";
 // Beside the profiles: the physics files --physics can name (docs/physics.md "Shipped arms").
 constexpr const char* kPhysicsFolder = "physics";
+
+// Refuses the "pairs_with" of the profile in `file`.
+[[noreturn]] void refuse_pair(const fs::path& file, const std::string& reason) {
+  throw ConfigError(file.string(), "/robot/pairs_with", reason);
+}
 
 }  // namespace
 
@@ -34,6 +40,9 @@ void RobotLibrary::add_directory(const fs::path& dir, const ModelLibrary& models
     if (config.robot->name != stem) {
       throw ConfigError(file.string(), "/robot/name",
                         "\"" + config.robot->name + "\" must be the file's name, \"" + stem + "\"");
+    }
+    for (PortConfig& port : config.ports) {
+      port.robot = stem;
     }
     // A user's profile replaces the shipped one of its name, as a user's model file does.
     profiles_.insert_or_assign(stem, RobotProfile{file, std::move(config)});
@@ -63,7 +72,51 @@ RobotLibrary RobotLibrary::load(const fs::path& shipped_dir,
     }
     library.add_directory(dir, models);
   }
+  // Only now: a user's directory may add the other half of a shipped pair, or replace it.
+  library.check_pairs();
   return library;
+}
+
+void RobotLibrary::check_pairs() const {
+  for (const auto& entry : profiles_) {
+    const std::string& name = entry.first;
+    const RobotHeader& header = entry.second.header();
+    if (header.pairs_with.empty()) {
+      continue;
+    }
+    const fs::path& file = entry.second.file;
+    const RobotProfile* other = find(header.pairs_with);
+    if (other == nullptr) {
+      refuse_pair(file, why_not_found(header.pairs_with));
+    }
+    const RobotRole wanted =
+        *header.role == RobotRole::Leader ? RobotRole::Follower : RobotRole::Leader;
+    const RobotHeader& them = other->header();
+    const std::string where = header.pairs_with + " (" + other->file.string() + ")";
+    if (them.role != wanted) {
+      refuse_pair(file, where + " is " +
+                            (them.role ? "a " + std::string(robot_role_name(*them.role))
+                                       : "neither leader nor follower") +
+                            ": a " + std::string(robot_role_name(*header.role)) + " pairs with a " +
+                            std::string(robot_role_name(wanted)));
+    }
+    if (them.pairs_with != name) {
+      refuse_pair(file, where + " must name " + name + " back in its \"pairs_with\" (it names " +
+                            (them.pairs_with.empty() ? std::string("none") : them.pairs_with) +
+                            ")");
+    }
+  }
+}
+
+std::vector<std::pair<std::string, std::string>> RobotLibrary::pairs() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [name, profile] : profiles_) {
+    // load() checked that each pair names itself from both sides: the leader's side lists it.
+    if (profile.header().role == RobotRole::Leader && !profile.header().pairs_with.empty()) {
+      out.emplace_back(name, profile.header().pairs_with);
+    }
+  }
+  return out;
 }
 
 const RobotProfile* RobotLibrary::find(const std::string& name) const {
@@ -132,6 +185,116 @@ BusConfig robot_bus(const RobotLibrary& robots, const std::string& name,
     config.ports.front().link = *link;
   }
   return config;
+}
+
+std::string served_port_name(const std::string& robot, const std::string& port,
+                             std::size_t robot_ports) {
+  return robot_ports == 1 ? robot : robot + "." + port;
+}
+
+namespace {
+
+// The names of `requests`, for messages: "a, b".
+std::string request_names(const std::vector<RobotRequest>& requests) {
+  std::string names;
+  for (const RobotRequest& request : requests) {
+    names += (names.empty() ? "" : ", ") + request.name;
+  }
+  return names;
+}
+
+// Port `port`'s description in messages about merged robots: "port arm of so101-leader".
+std::string port_of(const PortConfig& port, const std::string& original) {
+  return "port " + original + " of " + port.robot;
+}
+
+}  // namespace
+
+BusConfig robots_bus(const RobotLibrary& robots, const std::vector<RobotRequest>& requests,
+                     const std::optional<fs::path>& link) {
+  if (requests.empty()) {
+    throw std::invalid_argument("--robot: no robot to serve");
+  }
+  if (requests.size() == 1) {
+    // One robot: its profile's bus as it is, port names included (state files and scripts
+    // written for it keep working).
+    BusConfig config = robot_bus(robots, requests.front().name, link);
+    if (requests.front().physics) {
+      attach_physics(config, robots.physics_file(*requests.front().physics));
+    }
+    return config;
+  }
+  if (link) {
+    throw std::invalid_argument("--link: several robots are served (" + request_names(requests) +
+                                "), each on the links of its profile; copy a profile to change "
+                                "its links");
+  }
+  BusConfig merged;
+  std::string physics_robot;
+  // The profile's own name of each merged port, for messages.
+  std::vector<std::string> original_names;
+  for (std::size_t r = 0; r < requests.size(); ++r) {
+    const RobotRequest& request = requests[r];
+    for (std::size_t earlier = 0; earlier < r; ++earlier) {
+      if (requests[earlier].name == request.name) {
+        throw std::invalid_argument("--robot: " + request.name +
+                                    " is given twice; one daemon serves a robot once");
+      }
+    }
+    BusConfig one = robot_bus(robots, request.name, std::nullopt);
+    // The physics file names the profile's own ports: parsed against them, then renamed.
+    if (request.physics) {
+      attach_physics(one, robots.physics_file(*request.physics));
+    }
+    std::map<std::string, std::string> renamed;
+    for (PortConfig& port : one.ports) {
+      const std::string name = served_port_name(request.name, port.name, one.ports.size());
+      renamed[port.name] = name;
+      original_names.push_back(port.name);
+      port.name = name;
+      port.robot = request.name;
+    }
+    if (one.physics) {
+      if (merged.physics) {
+        throw std::invalid_argument("--physics: " + physics_robot + " and " + request.name +
+                                    " both have physics, and a daemon simulates one world; "
+                                    "serve one of them with a second dxlemu run");
+      }
+      for (JointConfig& joint : one.physics->joints) {
+        joint.port = renamed.at(joint.port);
+      }
+      merged.physics = std::move(one.physics);
+      physics_robot = request.name;
+    }
+    for (PortConfig& port : one.ports) {
+      merged.ports.push_back(std::move(port));
+    }
+  }
+  for (std::size_t i = 0; i < merged.ports.size(); ++i) {
+    const PortConfig& port = merged.ports[i];
+    if (port.name.size() > kMaxPortName) {
+      throw std::invalid_argument("--robot: " + port_of(port, original_names[i]) +
+                                  " would be called \"" + port.name +
+                                  "\", longer than a port name's " + std::to_string(kMaxPortName) +
+                                  " characters; copy the profile under a shorter name");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      const PortConfig& other = merged.ports[j];
+      if (other.name == port.name) {
+        throw std::invalid_argument("--robot: " + port_of(other, original_names[j]) + " and " +
+                                    port_of(port, original_names[i]) + " would both be called \"" +
+                                    port.name + "\"");
+      }
+      if (port.link && other.link &&
+          port.link->lexically_normal() == other.link->lexically_normal()) {
+        throw std::invalid_argument("--robot: " + port_of(other, original_names[j]) + " and " +
+                                    port_of(port, original_names[i]) + " have the same link " +
+                                    port.link->string() +
+                                    "; copy one profile and give its port another link");
+      }
+    }
+  }
+  return merged;
 }
 
 fs::path shipped_robots_dir() {

@@ -196,7 +196,7 @@ TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON poi
        "bus.json: /ports/0/adapter_chip: must be a non-empty string"},
       {R"({"ports": [{"name": "a", "adapter": 16, "servos": []}]})",
        "bus.json: /ports/0/adapter: unknown field (allowed: name, link, servos, "
-       "adapter_latency_ms, adapter_chip, description)"},
+       "adapter_latency_ms, adapter_chip, joints, description)"},
   };
   for (const auto& [text, message] : cases) {
     INFO(text);
@@ -235,4 +235,83 @@ TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",
         "port is ROBOTIS: a port speaks one maker's protocol (put them on separate ports)");
   CHECK(config_refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")) ==
         "bus.json: /ports/0/servos/0/protocol: sts3215 cannot speak protocol 1");
+}
+
+namespace bus_config_joints_test {
+
+// A port "arm" of three XM430-W350 at IDs 1 to 3 whose "joints" member is `joints`.
+std::string arm_with_joints(const std::string& joints) {
+  return R"({"ports":[{"name":"arm","servos":[{"model":"xm430-w350","ids":[1,2,3]}],"joints":)" +
+         joints + "}]}";
+}
+
+}  // namespace bus_config_joints_test
+
+TEST_CASE("A port names its servos' joints, with a range where one is given", "[app][config]") {
+  using bus_config_joints_test::arm_with_joints;
+  const auto config = parse(arm_with_joints(R"([
+      {"name": "shoulder_pan", "id": 2, "range_deg": [-110, 110.5]},
+      {"name": "Wrist-2.roll", "id": 1, "description": "no range"}])"));
+  REQUIRE(config.ports.size() == 1);
+  CHECK(config.ports.front().joints ==
+        std::vector<app::JointName>{{"shoulder_pan", 2, std::pair{-110.0, 110.5}},
+                                    {"Wrist-2.roll", 1, std::nullopt}});
+  // A plain config's port belongs to no robot; a port need not name its joints.
+  CHECK(config.ports.front().robot.empty());
+  CHECK(parse(one_port(R"({"model": "xm430-w350", "id": 1})")).ports.front().joints.empty());
+  // Eight turns either way is the widest range.
+  CHECK(parse(arm_with_joints(R"([{"name": "spin", "id": 3, "range_deg": [-2880, 2880]}])"))
+            .ports.front()
+            .joints.front()
+            .range_deg == std::pair{-2880.0, 2880.0});
+}
+
+TEST_CASE("A bad joint is refused naming the file, the JSON pointer and the reason",
+          "[app][config]") {
+  using bus_config_joints_test::arm_with_joints;
+  using Case = std::pair<std::string, std::string>;
+  const std::string a = R"({"name": "a", "id": 1})";
+  const std::vector<Case> cases = {
+      {arm_with_joints("{}"), "bus.json: /ports/0/joints: must be an array of joints"},
+      {arm_with_joints("[1]"), "bus.json: /ports/0/joints/0: must be an object"},
+      {arm_with_joints(R"([{"id": 1}])"), "bus.json: /ports/0/joints/0/name: is required"},
+      {arm_with_joints(R"([{"name": "a"}])"), "bus.json: /ports/0/joints/0/id: is required"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "gear": 2}])"),
+       "bus.json: /ports/0/joints/0/gear: unknown field (allowed: name, id, range_deg, "
+       "description)"},
+      {arm_with_joints(R"([{"name": "", "id": 1}])"),
+       "bus.json: /ports/0/joints/0/name: must be a non-empty string"},
+      {arm_with_joints(R"([{"name": "elbow flex", "id": 1}])"),
+       "bus.json: /ports/0/joints/0/name: must be 1 to 40 letters, digits, '_', '-' or '.'"},
+      {arm_with_joints(R"([{"name": ")" + std::string(41, 'j') + R"(", "id": 1}])"),
+       "bus.json: /ports/0/joints/0/name: must be 1 to 40 letters, digits, '_', '-' or '.'"},
+      {arm_with_joints(R"([{"name": "12", "id": 1}])"),
+       "bus.json: /ports/0/joints/0/name: must not be all digits (a number names a servo by "
+       "its ID)"},
+      {arm_with_joints("[" + a + R"(, {"name": "a", "id": 2}])"),
+       "bus.json: /ports/0/joints/1/name: joint name \"a\" is used twice on this port"},
+      {arm_with_joints("[" + a + R"(, {"name": "b", "id": 1}])"),
+       "bus.json: /ports/0/joints/1/id: servo 1 is joint \"a\" already: one joint per servo"},
+      {arm_with_joints(R"([{"name": "a", "id": 4}])"),
+       "bus.json: /ports/0/joints/0/id: port arm has no servo 4"},
+      {arm_with_joints(R"([{"name": "a", "id": 253}])"),
+       "bus.json: /ports/0/joints/0/id: 253 is outside 0 ~ 252"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": 90}])"),
+       "bus.json: /ports/0/joints/0/range_deg: must be [low, high] in degrees"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": [1, 2, 3]}])"),
+       "bus.json: /ports/0/joints/0/range_deg: must be [low, high] in degrees"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": [-90, "90"]}])"),
+       "bus.json: /ports/0/joints/0/range_deg/1: must be a number"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": [-2881, 0]}])"),
+       "bus.json: /ports/0/joints/0/range_deg/0: -2881 is outside -2880 ~ 2880 degrees (8 turns "
+       "either way)"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": [10, -10]}])"),
+       "bus.json: /ports/0/joints/0/range_deg: low 10 must be less than high -10"},
+      {arm_with_joints(R"([{"name": "a", "id": 1, "range_deg": [5.5, 5.5]}])"),
+       "bus.json: /ports/0/joints/0/range_deg: low 5.5 must be less than high 5.5"},
+  };
+  for (const auto& [text, message] : cases) {
+    INFO(text);
+    CHECK(config_refusal(text) == message);
+  }
 }
