@@ -5,10 +5,10 @@ Each leader profile (robots/NAME.json with "role": "leader") names its joints an
 (docs/robots.md "Joints"). From them this script makes, in degrees from each joint's middle
 (docs/hands.md "Units"):
 
-- NAME-pick-and-place.csv: home, reach over a part on one side, go down, close the gripper, lift,
-  swing to the other side, put it down, open, lift, home; poses are shares of each joint's
+- NAME-pick-and-place.csv: from where the servos power up (0°, 2048), home, reach over a part on one side, go down, close the gripper, lift,
+  swing to the other side, put it down, open, lift, home, and back to 0°; poses are shares of each joint's
   range, so the motion stays within the range of any arm with these joint names;
-- NAME-calibration-sweep.csv: from the middle, each joint in turn to the low end of its range, the
+- NAME-calibration-sweep.csv: from 0° to the middle of each range, then each joint in turn to the low end of its range, the
   high end, and back, with a short stop at each end: what LeRobot's calibration asks a person
   to do (record_ranges_of_motion).
 
@@ -33,7 +33,7 @@ OUT = ROBOTS / "trajectories"
 # 1 the high end. (time to reach it from the pose before, s; pause there, s; shares by joint).
 # A joint the table does not name stays in its middle.
 PICK_AND_PLACE = [
-    (0.0, 0.5, {"gripper": -0.6}),
+    (1.2, 0.5, {"gripper": -0.6}),
     (1.6, 0.3, {"shoulder_pan": -0.45, "shoulder_lift": 0.25, "elbow_flex": -0.2,
                 "wrist_flex": 0.3, "wrist_roll": 0.1, "gripper": 0.7}),
     (1.2, 0.2, {"shoulder_pan": -0.45, "shoulder_lift": 0.5, "elbow_flex": 0.15,
@@ -52,6 +52,9 @@ PICK_AND_PLACE = [
                 "wrist_flex": 0.25, "wrist_roll": -0.2, "gripper": 0.7}),
     (1.8, 0.5, {"gripper": -0.6}),
 ]
+
+# The time from the last pose back to where the servos power up (every shaft at 0°), s.
+PARK_S = 1.2
 
 # The calibration sweep: degrees per second, and the stop at each end of a range, s.
 SWEEP_SPEED_DEG_S = 90.0
@@ -92,7 +95,9 @@ def csv_text(source: str, what: str, joints: list[dict], rows: list[tuple[float,
 
 
 def pick_and_place(name: str, joints: list[dict]) -> str:
-    rows = []
+    # It starts and ends where a servo powers up, 0° (2048), so the hand takes the shaft from
+    # where it is, and a loop goes round without a jump.
+    rows = [(0.0, [0.0] * len(joints))]
     t = 0.0
     for reach_s, pause_s, shares in PICK_AND_PLACE:
         t += reach_s
@@ -101,14 +106,18 @@ def pick_and_place(name: str, joints: list[dict]) -> str:
         if pause_s > 0:
             t += pause_s
             rows.append((t, values))
+    t += PARK_S
+    rows.append((t, [0.0] * len(joints)))
     return csv_text(name, f"{name}: a pick and place, {t:.1f} s, within each joint's range",
                     joints, rows)
 
 
 def calibration_sweep(name: str, joints: list[dict]) -> str:
+    # From where the servos power up (0°) all joints go to their middle, then sweep in turn.
     middle = [degrees(j, 0.0) for j in joints]
-    rows = [(0.0, list(middle))]
-    t = 0.0
+    rows = [(0.0, [0.0] * len(joints))]
+    t = max(max(abs(m) for m in middle) / SWEEP_SPEED_DEG_S, SWEEP_PAUSE_S)
+    rows.append((t, list(middle)))
     for k, joint in enumerate(joints):
         low, high = joint["range_deg"]
         for target in (low, high, middle[k]):

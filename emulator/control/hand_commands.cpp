@@ -284,10 +284,10 @@ ordered_json placed_json(const Port& port, const std::vector<HandJoint>& joints,
           {"joints", std::move(list)}};
 }
 
-std::shared_ptr<const model::Hand> hand_for(const std::shared_ptr<const model::Trajectory>& trajectory,
-                                            std::size_t column, const model::Playback& playback,
-                                            Target& target, const HandJoint& joint, double force,
-                                            model::HandSource source) {
+std::shared_ptr<const model::Hand> hand_for(
+    const std::shared_ptr<const model::Trajectory>& trajectory, std::size_t column,
+    const model::Playback& playback, Target& target, const HandJoint& joint, double force,
+    model::HandSource source) {
   return std::make_shared<model::TrajectoryHand>(trajectory, column, playback, target.now(),
                                                  joint.scale, force, source);
 }
@@ -348,9 +348,8 @@ PreparedPlay prepare_play(Target& target, const Port& port, const Args& args) {
     }
     for (const HandJoint& other : joints) {
       if (other.servo == joint->servo) {
-        refuse(header + "columns " + json_quoted(other.name) + " and " +
-               json_quoted(column.joint) + " are the same servo, " +
-               std::to_string(joint->servo->id()));
+        refuse(header + "columns " + json_quoted(other.name) + " and " + json_quoted(column.joint) +
+               " are the same servo, " + std::to_string(joint->servo->id()));
       }
     }
     for (std::size_t r = 0; r < trajectory->row_count(); ++r) {
@@ -387,8 +386,9 @@ PreparedPlay prepare_sweep(Target& target, const Port& port, const Args& args) {
   for (const HandJoint& joint : joints) {
     const std::optional<Span> span = span_of(joint);
     if (!span) {
-      refuse(joint.name + " has no range to sweep: give the port's joints a range_deg "
-                          "(docs/robots.md \"Joints\")");
+      refuse(joint.name +
+             " has no range to sweep: give the port's joints a range_deg "
+             "(docs/robots.md \"Joints\")");
     }
     model::SweepJoint entry;
     entry.joint = joint.name;
@@ -397,17 +397,19 @@ PreparedPlay prepare_sweep(Target& target, const Port& port, const Args& args) {
     entry.low = span->low;
     entry.high = span->high;
     entry.middle = (span->low + span->high) / 2;
-    entry.speed_per_s = speed_deg_s * joint.scale.pulses_per_degree / joint.scale.pulses_per(span->unit);
+    entry.speed_per_s =
+        speed_deg_s * joint.scale.pulses_per_degree / joint.scale.pulses_per(span->unit);
     sweep.push_back(std::move(entry));
   }
   model::Playback playback;
   playback.interpolation = model::Interpolation::Linear;
-  const auto trajectory = std::make_shared<const model::Trajectory>(model::make_sweep(sweep, order));
+  const auto trajectory =
+      std::make_shared<const model::Trajectory>(model::make_sweep(sweep, order));
   PreparedPlay prepared;
   for (std::size_t c = 0; c < joints.size(); ++c) {
-    prepared.placements.push_back({joints[c].servo, hand_for(trajectory, c, playback, target,
-                                                             joints[c], force,
-                                                             model::HandSource::Sweep)});
+    prepared.placements.push_back(
+        {joints[c].servo,
+         hand_for(trajectory, c, playback, target, joints[c], force, model::HandSource::Sweep)});
   }
   prepared.result = placed_json(port, joints, *trajectory, playback);
   return prepared;
@@ -432,8 +434,8 @@ PreparedPlay prepare_move(Target& target, const Port& port, const Args& args) {
   }
   const JointUnit unit = unit_of(args);
   check_in_span(joint, *position, unit, "");
-  const double duration = bounded_number(args, "duration_s", kDefaultMoveS, kMinMoveS, kMaxMoveS,
-                                         " s");
+  const double duration =
+      bounded_number(args, "duration_s", kDefaultMoveS, kMinMoveS, kMaxMoveS, " s");
   const double force = force_of(args);
   // Half a cosine from here to there: a hand starts and stops gently.
   const double from = hand_value_now(target, joint, unit);
@@ -449,9 +451,8 @@ PreparedPlay prepare_move(Target& target, const Port& port, const Args& args) {
       std::vector<std::size_t>{}, "move");
   const model::Playback playback;
   PreparedPlay prepared;
-  prepared.placements.push_back(
-      {joint.servo, hand_for(trajectory, 0, playback, target, joint, force,
-                             model::HandSource::Move)});
+  prepared.placements.push_back({joint.servo, hand_for(trajectory, 0, playback, target, joint,
+                                                       force, model::HandSource::Move)});
   prepared.result = placed_json(port, {joint}, *trajectory, playback);
   return prepared;
 }

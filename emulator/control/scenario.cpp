@@ -19,9 +19,9 @@ constexpr double kMaxAtMs = 86'400'000;
 
 // What a step may do: change the bus, its servos and their world; never read or wait.
 constexpr std::array<std::string_view, 14> kAllowed = {
-    "set",          "condition.set", "servo.detach", "servo.attach", "servo.power_cycle",
-    "fault.add",    "fault.remove",  "fault.clear",  "physics.apply", "hand.play",
-    "hand.sweep",   "hand.move",     "hand.stop",    "shutdown"};
+    "set",        "condition.set", "servo.detach", "servo.attach",  "servo.power_cycle",
+    "fault.add",  "fault.remove",  "fault.clear",  "physics.apply", "hand.play",
+    "hand.sweep", "hand.move",     "hand.stop",    "shutdown"};
 
 std::string allowed_list() {
   std::string out;

@@ -9,6 +9,9 @@
 
 #include "app/cli/libraries.hpp"
 #include "app/config/bus_options.hpp"
+#include "app/config/hand_start.hpp"
+#include "app/config/robot_library.hpp"
+#include "app/config/trajectory_library.hpp"
 #include "app/daemon/emulator.hpp"
 #include "app/daemon/log.hpp"
 
@@ -32,6 +35,34 @@ PortConfig port_of_options(const CommandLine& line) {
   return port;
 }
 
+// Puts each --hand on its port: the port of the --robot it follows, or the only port.
+void attach_hand_options(BusConfig& config, const CommandLine& line) {
+  const auto attach = [&config](const std::string& robot, const std::string& spec) {
+    std::vector<PortConfig*> ports;
+    for (PortConfig& port : config.ports) {
+      if (robot.empty() || port.robot == robot) {
+        ports.push_back(&port);
+      }
+    }
+    if (ports.size() != 1) {
+      const std::string whose = robot.empty() ? "the config" : "robot " + robot;
+      throw std::invalid_argument("--hand " + spec + ": " + whose + " has " +
+                                  std::to_string(ports.size()) +
+                                  " ports: give each port its \"hand\" in a config "
+                                  "(docs/hands.md)");
+    }
+    ports.front()->hands.push_back(hand_start_of_option(spec));
+  };
+  for (const RobotRequest& robot : line.robots) {
+    for (const std::string& spec : robot.hands) {
+      attach(robot.name, spec);
+    }
+  }
+  for (const std::string& spec : line.hands) {
+    attach("", spec);
+  }
+}
+
 }  // namespace
 
 void serve(const CommandLine& line, bool link_given) {
@@ -43,12 +74,9 @@ void serve(const CommandLine& line, bool link_given) {
   if (line.handover_us) {
     options.pty_handover = std::chrono::microseconds(*line.handover_us);
   }
-  // The hands' motion is not served yet: refused rather than silently ignored.
-  const bool hands = !line.hands.empty() ||
-                     std::any_of(line.robots.begin(), line.robots.end(),
-                                 [](const RobotRequest& robot) { return !robot.hands.empty(); });
-  if (hands) {
-    throw std::invalid_argument("--hand: this dxlemu serves no virtual hands yet");
+  options.trajectory_dirs.push_back(shipped_robots_dir() / kTrajectoryFolder);
+  for (const std::string& dir : line.robot_dirs) {
+    options.trajectory_dirs.push_back(std::filesystem::path(dir) / kTrajectoryFolder);
   }
   const auto library = load_library(line.model_dirs);
   BusConfig config;
@@ -64,6 +92,7 @@ void serve(const CommandLine& line, bool link_given) {
     config.ports.push_back(port_of_options(line));
   }
   attach_physics_option(config, line.physics, line.robot_dirs, library);
+  attach_hand_options(config, line);
   apply_bus_options(config, library, line.baud, line.protocol);
   Emulator emulator(library, config, options);
   emulator.run(std::cout);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/config/hand_start.hpp"
 #include "bus/usb_adapter_link.hpp"
 
 namespace dxlemu::app {
@@ -283,9 +284,9 @@ class ConfigParser {
   }
 
   PortConfig parse_port(const json& value, const std::string& at) {
-    object(
-        value, at,
-        {"name", "link", "servos", "adapter_latency_ms", "adapter_chip", "joints", "description"});
+    object(value, at,
+           {"name", "link", "servos", "adapter_latency_ms", "adapter_chip", "joints", "hand",
+            "description"});
     PortConfig port;
     port.name = string(member(value, at, "name"), at + "/name");
     // Port names appear in logs, traces and control-API requests and replies: keep them plain.
@@ -333,6 +334,10 @@ class ConfigParser {
     }
     if (value.contains("joints")) {
       port.joints = parse_joints(value["joints"], at + "/joints", port);
+    }
+    if (value.contains("hand")) {
+      port.hands = hand_starts_of_json(value["hand"], origin_, at + "/hand",
+                                       std::filesystem::path(origin_).parent_path());
     }
     return port;
   }

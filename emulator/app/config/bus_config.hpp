@@ -60,6 +60,15 @@ struct JointName {
   bool operator==(const JointName&) const = default;
 };
 
+/// A hand a port starts with (`--hand`, a port's "hand"; docs/hands.md): a control request,
+/// hand.play or hand.sweep, as JSON text without its "port", and where it was given.
+struct HandStart {
+  std::string request;
+  /// For messages: "--hand pick.csv", "my.json: /ports/0/hand".
+  std::string origin;
+  bool operator==(const HandStart&) const = default;
+};
+
 /// One port: a PTY with an optional stable symlink, and its servos in bus order.
 struct PortConfig {
   std::string name;
@@ -73,6 +82,8 @@ struct PortConfig {
   /// The names the robot's software gives the servos of this port, in file order; at most one
   /// per ID, each ID a servo of `servos`.
   std::vector<JointName> joints;
+  /// The hands that hold its joints from the start, in order.
+  std::vector<HandStart> hands;
   /// The robot profile this port is part of (its name); empty for a plain config's port.
   std::string robot;
   bool operator==(const PortConfig&) const = default;

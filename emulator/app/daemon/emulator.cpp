@@ -98,6 +98,11 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         *port->pty, scheduler_, [this] { return driver_.wall_now(); }, port_config, options_);
     port->bus = std::make_unique<bus::Bus>(scheduler_, port->links->bus_side());
     port->view = std::make_unique<BusPortView>(*port->bus, port->links->guard());
+    std::vector<control::JointView> joint_names;
+    for (const JointName& joint : port_config.joints) {
+      joint_names.push_back({joint.name, joint.id, joint.range_deg});
+    }
+    port->view->set_joints(std::move(joint_names));
     if (options_.timing != TimingMode::Realtime) {
       port->bus->set_reply_timing(bus::ReplyTiming::Immediate);
     }
@@ -150,6 +155,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       },
       io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
   control_->on_close([this](io::ControlSession& session) { trace_->unsubscribe(session.id()); });
+  start_hands();
   if (options_.scenario) {
     // Its steps count from now, the start of simulated time.
     const std::string origin = options_.scenario->string();
@@ -162,6 +168,24 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
 }
 
 Emulator::~Emulator() = default;
+
+void Emulator::start_hands() {
+  // Through the control API, as hand.play and hand.sweep: one set of checks and one mechanism.
+  for (const auto& port : ports_) {
+    for (const HandStart& hand : port->config.hands) {
+      nlohmann::ordered_json request = nlohmann::ordered_json::parse(hand.request);
+      request["port"] = port->config.name;
+      const nlohmann::ordered_json reply = api_->run(request);
+      if (reply["ok"] != true) {
+        throw std::invalid_argument(hand.origin + ": " + reply["error"].get<std::string>());
+      }
+      log(LogLevel::Info, port->config.name + ": " + hand.origin + ": a hand holds " +
+                              std::to_string(reply["result"]["joints"].size()) + " joint(s) for " +
+                              reply["result"]["duration_s"].dump() + " s" +
+                              (reply["result"]["loop"] == true ? ", looping" : ""));
+    }
+  }
+}
 
 void Emulator::subscribe_trace(const control::Connection& connection,
                                std::vector<std::string> ports) {

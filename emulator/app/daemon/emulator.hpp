@@ -62,6 +62,9 @@ class Emulator : public control::Target {
   struct Port;
   /// What every I/O handler does last: flushes the trace file and saves the state if it changed.
   void finish_handler();
+  /// Puts on each port the hands its config starts with (--hand, "hand"). Throws
+  /// std::invalid_argument naming where the hand was given and why it is refused.
+  void start_hands();
   /// Keeps the physics world within 10 ms of simulated time, so that a read after a
   /// long quiet spell does not run all the ticks since at once.
   void schedule_physics_catch_up();

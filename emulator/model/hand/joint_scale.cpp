@@ -26,8 +26,8 @@ JointScale JointScale::of(const ModelSpec& spec) {
   }
   double middle = params.pulses_per_rev / 2;
   if (low && high) {
-    middle = std::round(
-        static_cast<double>(spec.items[*low].initial + spec.items[*high].initial) / 2);
+    middle =
+        std::round(static_cast<double>(spec.items[*low].initial + spec.items[*high].initial) / 2);
   }
   return JointScale{middle, params.pulses_per_rev / kDegreesPerTurn};
 }

@@ -196,7 +196,7 @@ TEST_CASE("A bad USB adapter setting is refused naming the file and the JSON poi
        "bus.json: /ports/0/adapter_chip: must be a non-empty string"},
       {R"({"ports": [{"name": "a", "adapter": 16, "servos": []}]})",
        "bus.json: /ports/0/adapter: unknown field (allowed: name, link, servos, "
-       "adapter_latency_ms, adapter_chip, joints, description)"},
+       "adapter_latency_ms, adapter_chip, joints, hand, description)"},
   };
   for (const auto& [text, message] : cases) {
     INFO(text);

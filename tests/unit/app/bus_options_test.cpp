@@ -22,7 +22,7 @@ std::string servo_refusal(const std::string& text) {
 // One port of `servos`, with nothing overridden.
 app::BusConfig one_port(std::vector<app::ServoConfig> servos) {
   app::BusConfig config;
-  config.ports.push_back({"dxl0", std::nullopt, std::move(servos), {}, {}, {}, {}});
+  config.ports.push_back({"dxl0", std::nullopt, std::move(servos), {}, {}, {}, {}, {}});
   return config;
 }
 

@@ -18,7 +18,7 @@ struct ChainRig {
   sim::Scheduler scheduler;
   bus::LoopbackLink client;
   sim::SimTime wall{};
-  app::PortConfig port{"dxl0", std::nullopt, {}, {}, {}, {}, {}};
+  app::PortConfig port{"dxl0", std::nullopt, {}, {}, {}, {}, {}, {}};
 
   app::PortLinkChain chain(const app::RunOptions& options) {
     return {client, scheduler, [this] { return wall; }, port, options};

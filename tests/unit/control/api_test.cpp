@@ -245,7 +245,8 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
         R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
         R"("servo.attach","servo.power_cycle","fault.add","fault.list","fault.remove",)"
-        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","physics",)"
+        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","hand",)"
+      R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
         R"("physics.apply","clock.now","clock.step","stats","shutdown","help"]})");
 }
 
@@ -306,7 +307,8 @@ TEST_CASE("A request without a known cmd is refused naming the commands", "[cont
   const std::string commands =
       "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
       "fault.add, fault.list, fault.remove, fault.clear, scenario.load, trace.subscribe, "
-      "trace.unsubscribe, physics, physics.apply, clock.now, clock.step, stats, shutdown, help)";
+      "trace.unsubscribe, hand, hand.play, hand.sweep, hand.move, hand.stop, physics, "
+      "physics.apply, clock.now, clock.step, stats, shutdown, help)";
   CHECK(rig.error(R"({"id":1})") == "\"cmd\" is required " + commands);
   CHECK(rig.error(R"({"id":1,"cmd":3})") == R"("cmd" must be a string)");
   CHECK(rig.error(R"({"id":1,"cmd":"gett"})") == "unknown command \"gett\" " + commands);

@@ -1,8 +1,8 @@
 // Control API behaviours that fuzz_control (tests/fuzz/) found wrong, each reproduced with the
 // request line the fuzzer's input boiled down to.
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 

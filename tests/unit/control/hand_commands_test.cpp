@@ -39,9 +39,7 @@ struct ArmRig : test::ApiRequests<ArmRig> {
     target.trajectories[name] = std::make_shared<const model::Trajectory>(
         app::parse_trajectory(text, name, app::TrajectoryFormat::Csv));
   }
-  void step_ms(int ms) {
-    result(R"({"cmd":"clock.step","ms":)" + std::to_string(ms) + "}");
-  }
+  void step_ms(int ms) { result(R"({"cmd":"clock.step","ms":)" + std::to_string(ms) + "}"); }
   /// Present Position of servo `id`.
   std::int64_t present(int id) {
     return result(R"({"cmd":"get","servo":)" + std::to_string(id) +
@@ -71,8 +69,9 @@ TEST_CASE("hand.play moves the joints its columns name, by name or by ID, in deg
                      "1,90,3048\n");
   const auto played =
       rig.result(R"({"cmd":"hand.play","file":"wave.csv","interpolation":"linear"})");
-  CHECK(played["joints"] == nlohmann::json::parse(
-                                R"([{"joint":"shoulder_pan","servo":1},{"joint":"elbow_flex","servo":3}])"));
+  CHECK(played["joints"] ==
+        nlohmann::json::parse(
+            R"([{"joint":"shoulder_pan","servo":1},{"joint":"elbow_flex","servo":3}])"));
   CHECK(played["duration_s"] == 1.0);
   rig.step_ms(500);
   CHECK(rig.present(1) == raw_of(45));
@@ -175,11 +174,12 @@ TEST_CASE("hand.move eases one joint to a place; hand.stop lets go", "[control][
 TEST_CASE("Hand requests are checked whole as scenario steps", "[control][hand]") {
   ArmRig rig;
   rig.add_trajectory("unknown.csv", "time,elbow\n0,0\n");
-  CHECK(dxlemu::control::Api::check(
-            rig.target, nlohmann::ordered_json::parse(R"({"cmd":"hand.play","file":"unknown.csv"})"))
+  CHECK(dxlemu::control::Api::check(rig.target, nlohmann::ordered_json::parse(
+                                                    R"({"cmd":"hand.play","file":"unknown.csv"})"))
             .value_or("")
             .starts_with("unknown.csv: line 1: no joint \"elbow\""));
-  CHECK_FALSE(dxlemu::control::Api::check(
-                  rig.target, nlohmann::ordered_json::parse(R"({"cmd":"hand.sweep","order":"together"})"))
-                  .has_value());
+  CHECK_FALSE(
+      dxlemu::control::Api::check(
+          rig.target, nlohmann::ordered_json::parse(R"({"cmd":"hand.sweep","order":"together"})"))
+          .has_value());
 }
