@@ -150,7 +150,7 @@ TEST_CASE("hand.sweep takes each joint through its whole range and back to the m
   CHECK(rig.present(6) == raw_of(45));
 }
 
-TEST_CASE("hand.move eases one joint to a place; hand.stop lets go", "[control][hand]") {
+TEST_CASE("hand.move eases one joint to a place, and hand.stop lets go", "[control][hand]") {
   ArmRig rig;
   rig.result(R"({"cmd":"hand.move","joint":"wrist_flex","position":30,"duration_s":0.5})");
   rig.step_ms(250);

@@ -187,7 +187,7 @@ TEST_CASE("A blocked shaft does not move in a hand", "[model][hand]") {
   CHECK(rig.get("present_position") == start);
 }
 
-TEST_CASE("A shaft at rest in a still hand rests; a moving hand keeps it ticking",
+TEST_CASE("A shaft at rest in a still hand rests, and a moving hand keeps it ticking",
           "[model][hand]") {
   HandRig rig("xm430-w350");
   rig.hand(1000, 2000, 0, 100);
