@@ -380,6 +380,15 @@ PreparedPlay prepare_sweep(Target& target, const Port& port, const Args& args) {
       refuse("\"order\" must be \"one_by_one\" or \"together\", got " + args.text("order"));
     }
   }
+  // "to": "middle" stops at the middle: where LeRobot's calibration first asks for the arm.
+  bool middle_only = false;
+  if (const auto to = args.string("to")) {
+    if (*to != "middle") {
+      refuse("\"to\" must be \"middle\" (only to the middle of each range), got " +
+             args.text("to"));
+    }
+    middle_only = true;
+  }
   const double force = force_of(args);
   const std::vector<HandJoint> joints = chosen_joints(port, args);
   std::vector<model::SweepJoint> sweep;
@@ -397,6 +406,10 @@ PreparedPlay prepare_sweep(Target& target, const Port& port, const Args& args) {
     entry.low = span->low;
     entry.high = span->high;
     entry.middle = (span->low + span->high) / 2;
+    if (middle_only) {
+      entry.low = entry.middle;
+      entry.high = entry.middle;
+    }
     entry.speed_per_s =
         speed_deg_s * joint.scale.pulses_per_degree / joint.scale.pulses_per(span->unit);
     sweep.push_back(std::move(entry));

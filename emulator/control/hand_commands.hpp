@@ -19,10 +19,10 @@ ordered_json hand_state(Target& target, const Args& args);
 /// range, naming the file, the line and the reason.
 ordered_json hand_play(Target& target, const Args& args);
 
-/// hand.sweep {"port"?, "joints"?, "order"?, "speed_deg_s"?, "force_limit_nm"?}: moves the
-/// joints (all of the port's when not given) to the middle of their range, then through the
+/// hand.sweep {"port"?, "joints"?, "order"?, "speed_deg_s"?, "to"?, "force_limit_nm"?}: moves
+/// the joints (all of the port's when not given) to the middle of their range, then through the
 /// whole range and back, one after another or together, as LeRobot's calibration asks a
-/// person to.
+/// person to; with "to": "middle", only to the middle.
 ordered_json hand_sweep(Target& target, const Args& args);
 
 /// hand.move {"port"?, "joint", "position", "units"?, "duration_s"?, "force_limit_nm"?}: moves

@@ -150,6 +150,17 @@ TEST_CASE("hand.sweep takes each joint through its whole range and back to the m
   CHECK(rig.present(6) == raw_of(45));
 }
 
+TEST_CASE("hand.sweep to the middle brings every joint to the middle of its range and stops",
+          "[control][hand]") {
+  ArmRig rig;
+  const auto moved = rig.result(R"({"cmd":"hand.sweep","to":"middle","order":"together"})");
+  rig.step_ms(static_cast<int>(moved["duration_s"].get<double>() * 1000) + 10);
+  CHECK(rig.present(1) == 2048);
+  CHECK(rig.present(6) == raw_of(45));
+  CHECK(rig.error(R"({"cmd":"hand.sweep","to":"end"})") ==
+        "\"to\" must be \"middle\" (only to the middle of each range), got \"end\"");
+}
+
 TEST_CASE("hand.move eases one joint to a place, and hand.stop lets go", "[control][hand]") {
   ArmRig rig;
   rig.result(R"({"cmd":"hand.move","joint":"wrist_flex","position":30,"duration_s":0.5})");
