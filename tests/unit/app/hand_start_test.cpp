@@ -67,7 +67,8 @@ TEST_CASE("A config port's hand is a SPEC, an object with file or sweep, or an a
   CHECK(refusal_of(json::parse(R"({"loop": true})")) ==
         "arm.json: /ports/0/hand: needs one of \"file\" (a trajectory) or \"sweep\": true");
   CHECK(refusal_of(json::parse("3")).starts_with("arm.json: /ports/0/hand: must be a trajectory"));
-  CHECK(refusal_of(json::parse(R"({"sweep": 1})")) == "arm.json: /ports/0/hand/sweep: must be true");
+  CHECK(refusal_of(json::parse(R"({"sweep": 1})")) ==
+        "arm.json: /ports/0/hand/sweep: must be true");
 }
 
 TEST_CASE("Degrees count from the middle of the factory position limits", "[app][hand]") {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -237,4 +238,36 @@ TEST_CASE("Two servos on one world step it once per tick, whichever is caught up
   falling.advance_to(sim::SimTime{} + milliseconds(300));
   CHECK(clock->ticks() == 300);
   CHECK(position(falling) == fallen);
+}
+
+namespace dxlemu::test::pendulum_hand {
+
+/// A hand that holds the shaft still at `position` pulses, pushing with up to `force_nm`.
+class StillHand : public model::Hand {
+ public:
+  StillHand(double position, double force_nm) : grip_{position, 0, force_nm} {}
+  std::optional<model::Grip> grip(sim::SimTime /*t*/) const override { return grip_; }
+  bool still_from(sim::SimTime /*t*/) const override { return true; }
+
+ private:
+  model::Grip grip_;
+};
+
+}  // namespace dxlemu::test::pendulum_hand
+
+TEST_CASE("A hand holds a torque-off link up against gravity, as far as its force goes",
+          "[physics][mujoco][hand]") {
+  // 30° above level: gravity pulls with m·g·l·cos 30° = 0.42 N·m; the hand's spring is as stiff
+  // as the servo's own position loop (4.1 N·m over 64 pulses), so it sags about 7 pulses.
+  const double up = kLevel - kPulsesPerRev / 12;
+  Pendulum strong;
+  strong.servo.motion().set_hand(std::make_shared<dxlemu::test::pendulum_hand::StillHand>(up, 2.0));
+  strong.wait_ms(2000);
+  CHECK(std::abs(static_cast<double>(strong.get("present_position")) - up) <= 10);
+  CHECK(strong.get("present_current") == 0);  // the servo itself gives nothing
+  // A hand weaker than gravity at the stop (0.25 N·m there) lets the link fall onto it.
+  Pendulum weak;
+  weak.servo.motion().set_hand(std::make_shared<dxlemu::test::pendulum_hand::StillHand>(up, 0.2));
+  weak.wait_ms(3000);
+  CHECK(weak.angle() == Approx(kLimitRad).margin(0.02));
 }
