@@ -33,7 +33,7 @@ using dxlemu::test::hand_start::refusal_of;
 using dxlemu::test::hand_start::request_of;
 using nlohmann::json;
 
-TEST_CASE("--hand FILE with options is a hand.play request", "[app][hand]") {
+TEST_CASE("A --hand FILE with options is a hand.play request", "[app][hand]") {
   const auto start = hand_start_of_option("pick.csv,loop,speed=2,interpolation=linear");
   CHECK(request_of(start) ==
         json::parse(R"({"cmd":"hand.play","file":"pick.csv","loop":true,"speed":2,)"
@@ -41,12 +41,12 @@ TEST_CASE("--hand FILE with options is a hand.play request", "[app][hand]") {
   CHECK(start.origin == "--hand pick.csv,loop,speed=2,interpolation=linear");
 }
 
-TEST_CASE("--hand sweep is a hand.sweep request", "[app][hand]") {
+TEST_CASE("A --hand sweep is a hand.sweep request", "[app][hand]") {
   CHECK(request_of(hand_start_of_option("sweep,order=together,speed_deg_s=45")) ==
         json::parse(R"({"cmd":"hand.sweep","order":"together","speed_deg_s":45})"));
 }
 
-TEST_CASE("--hand without a file, or with a nameless option, is refused", "[app][hand]") {
+TEST_CASE("A --hand without a file, or with a nameless option, is refused", "[app][hand]") {
   CHECK_THROWS_WITH(hand_start_of_option(""),
                     Catch::Contains("give a trajectory FILE or \"sweep\""));
   CHECK_THROWS_WITH(hand_start_of_option("pick.csv,=2"),
