@@ -17,7 +17,7 @@ ordered_json option_value(const std::string& text) {
   return parsed.is_discarded() || parsed.is_structured() ? ordered_json(text) : parsed;
 }
 
-HandStart start_of(ordered_json request, const std::string& origin) {
+HandStart start_of(const ordered_json& request, const std::string& origin) {
   return HandStart{request.dump(), origin};
 }
 
@@ -67,7 +67,7 @@ HandStart hand_start_of_option(const std::string& spec) {
     request[key] =
         equals == std::string::npos ? ordered_json(true) : option_value(part.substr(equals + 1));
   }
-  return start_of(std::move(request), "--hand " + spec);
+  return start_of(request, "--hand " + spec);
 }
 
 std::vector<HandStart> hand_starts_of_json(const nlohmann::json& value, const std::string& origin,
@@ -90,7 +90,7 @@ std::vector<HandStart> hand_starts_of_json(const nlohmann::json& value, const st
     if (request.contains("file")) {
       request["file"] = located(request["file"].get<std::string>(), folder);
     }
-    starts.push_back(start_of(std::move(request), where));
+    starts.push_back(start_of(request, where));
     return starts;
   }
   if (!value.is_object()) {
@@ -121,7 +121,7 @@ std::vector<HandStart> hand_starts_of_json(const nlohmann::json& value, const st
     }
     request[key] = ordered_json::parse(member.dump());
   }
-  starts.push_back(start_of(std::move(request), where));
+  starts.push_back(start_of(request, where));
   return starts;
 }
 

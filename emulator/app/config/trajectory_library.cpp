@@ -23,7 +23,7 @@ fs::path find_trajectory(const std::string& argument, const std::vector<fs::path
   for (const fs::path& dir : dirs) {
     if (argument.find('/') == std::string::npos) {
       for (const char* extension : kExtensions) {
-        const fs::path candidate = dir / (argument + extension);
+        fs::path candidate = dir / (argument + extension);
         if (fs::is_regular_file(candidate, error)) {
           return candidate;
         }

@@ -28,9 +28,10 @@ struct ArmRig : test::ApiRequests<ArmRig> {
     const std::vector<std::string> names = {"shoulder_pan", "shoulder_lift", "elbow_flex",
                                             "wrist_flex",   "wrist_roll",    "gripper"};
     std::vector<control::JointView> joints;
-    for (std::uint8_t id = 1; id <= names.size(); ++id) {
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const auto id = static_cast<std::uint8_t>(i + 1);
       target.add(arm, "feetech/sts3215", id);
-      joints.push_back({names[id - 1], id, std::pair{-100.0, 100.0}});
+      joints.push_back({names[i], id, std::pair{-100.0, 100.0}});
     }
     joints.back().range_deg = std::pair{-10.0, 100.0};
     arm.view.set_joints(joints);
