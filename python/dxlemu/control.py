@@ -214,6 +214,42 @@ class Control:
         return self.call("physics.apply", **_without_none(joint=joint, body=body,
                                                            torque_nm=torque_nm, force_n=force_n))
 
+    def hand(self, port: str | None = None) -> list[dict]:
+        """Every joint a virtual hand holds (docs/hands.md): its servo, source, value now,
+        whether its play has ended."""
+        return self.call("hand", **_without_none(port=port))
+
+    def hand_play(self, file: str, *, port: str | None = None, loop: bool | None = None,
+                  speed: float | None = None, start_s: float | None = None,
+                  interpolation: str | None = None,
+                  force_limit_nm: float | None = None) -> dict:
+        """Plays a trajectory file (or a shipped trajectory by name) on the joints it names."""
+        return self.call("hand.play", **_without_none(
+            file=file, port=port, loop=loop, speed=speed, start_s=start_s,
+            interpolation=interpolation, force_limit_nm=force_limit_nm))
+
+    def hand_sweep(self, *, port: str | None = None, joints: list[str | int] | None = None,
+                   order: str | None = None, speed_deg_s: float | None = None,
+                   to: str | None = None, force_limit_nm: float | None = None) -> dict:
+        """Sweeps the joints through their ranges as LeRobot's calibration asks; `to="middle"`
+        only brings them to the middle."""
+        return self.call("hand.sweep", **_without_none(
+            port=port, joints=joints, order=order, speed_deg_s=speed_deg_s, to=to,
+            force_limit_nm=force_limit_nm))
+
+    def hand_move(self, joint: str | int, position: float, *, port: str | None = None,
+                  units: str | None = None, duration_s: float | None = None,
+                  force_limit_nm: float | None = None) -> dict:
+        """Eases one joint to `position` (degrees, or raw with units="raw")."""
+        return self.call("hand.move", **_without_none(
+            joint=joint, position=position, port=port, units=units, duration_s=duration_s,
+            force_limit_nm=force_limit_nm))
+
+    def hand_stop(self, *, port: str | None = None,
+                  joints: list[str | int] | None = None) -> dict:
+        """The hands of `joints` (default all of the port's) let go."""
+        return self.call("hand.stop", **_without_none(port=port, joints=joints))
+
     def shutdown(self) -> None:
         """Stops the daemon as SIGTERM would, after the reply."""
         self.call("shutdown")

@@ -73,3 +73,19 @@ def test_trace_events_are_kept_apart_from_replies(dxlemu):
     assert [(event["event"], event["dir"], event.get("packet")) for event in events] == [
         ("trace", "in", "id=1 ping"), ("trace", "out", "id=1 error=0x00 params=FC 03 2D")]
     control.trace_unsubscribe()
+
+
+def test_hand_methods_move_a_joint_and_report_it(dxlemu):
+    # The default bus names no joints: a hand takes a servo by its ID, degrees from 2048.
+    control = dxlemu.control
+    moved = control.hand_move(2, 90, duration_s=0.5)
+    assert moved["joints"] == [{"joint": "2", "servo": 2}]
+    control.clock_step(ms=600)
+    assert control.get(2, "present_position") == 3072
+    held = control.hand()
+    assert [(h["servo"], h["source"], h["ended"]) for h in held] == [(2, "move", True)]
+    swept = control.hand_sweep(joints=[1], to="middle")
+    assert swept["joints"] == [{"joint": "1", "servo": 1}]
+    assert len(control.hand_stop()["released"]) == 2
+    with pytest.raises(ControlError, match="no such file|is no file"):
+        control.hand_play("no-such-trajectory")
