@@ -506,6 +506,17 @@ ordered_json port_hands(Target& target, const Port& port) {
   return list;
 }
 
+using Prepare = PreparedPlay (*)(Target& target, const Port& port, const Args& args);
+
+// Checks the whole request, then puts its hands on the servos from now on.
+ordered_json run_prepared(Target& target, const Args& args, Prepare prepare) {
+  const Port port = port_of(target, args);
+  port.view.catch_up();
+  PreparedPlay prepared = prepare(target, port, args);
+  place_hands(port, prepared.placements);
+  return std::move(prepared.result);
+}
+
 }  // namespace
 
 ordered_json hand_state(Target& target, const Args& args) {
@@ -524,27 +535,15 @@ ordered_json hand_state(Target& target, const Args& args) {
 }
 
 ordered_json hand_play(Target& target, const Args& args) {
-  const Port port = port_of(target, args);
-  port.view.catch_up();
-  PreparedPlay prepared = prepare_play(target, port, args);
-  place_hands(port, prepared.placements);
-  return std::move(prepared.result);
+  return run_prepared(target, args, prepare_play);
 }
 
 ordered_json hand_sweep(Target& target, const Args& args) {
-  const Port port = port_of(target, args);
-  port.view.catch_up();
-  PreparedPlay prepared = prepare_sweep(target, port, args);
-  place_hands(port, prepared.placements);
-  return std::move(prepared.result);
+  return run_prepared(target, args, prepare_sweep);
 }
 
 ordered_json hand_move(Target& target, const Args& args) {
-  const Port port = port_of(target, args);
-  port.view.catch_up();
-  PreparedPlay prepared = prepare_move(target, port, args);
-  place_hands(port, prepared.placements);
-  return std::move(prepared.result);
+  return run_prepared(target, args, prepare_move);
 }
 
 ordered_json hand_stop(Target& target, const Args& args) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bus_write.hpp"
 #include "model/servo.hpp"
 #include "shipped_model.hpp"
 
@@ -70,14 +71,7 @@ struct HandRig {
   }
   std::uint8_t write(const std::string& key, std::int64_t value) {
     servo.advance_to(now);
-    const model::ItemSpec& item = *servo.spec().find(key);
-    Bytes data;
-    for (std::size_t i = 0; i < item.size; ++i) {
-      data.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(value) >> (8 * i)));
-    }
-    const wire::InstructionPacket packet{servo.protocol().value_or(wire::Protocol::V2), servo.id(),
-                                         wire::Write{item.address, data}};
-    return servo.execute(packet, model::Addressing::Unicast).error;
+    return test::bus_write(servo, key, value);
   }
   std::int64_t get(const std::string& key) const { return servo.table().get(key); }
   void hand(double from, double to, double start_ms, double end_ms,

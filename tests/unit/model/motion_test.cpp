@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "bus_write.hpp"
 #include "model/servo.hpp"
 #include "shipped_model.hpp"
 #include "status_bytes.hpp"
@@ -75,14 +76,7 @@ struct Rig {
   /// returns the status error byte.
   std::uint8_t write(const std::string& key, std::int64_t value) {
     servo.advance_to(now);
-    const model::ItemSpec& item = *servo.spec().find(key);
-    Bytes data;
-    for (std::size_t i = 0; i < item.size; ++i) {
-      data.push_back(static_cast<std::uint8_t>(static_cast<std::uint64_t>(value) >> (8 * i)));
-    }
-    const wire::InstructionPacket packet{servo.protocol().value_or(Protocol::V2), servo.id(),
-                                         wire::Write{item.address, data}};
-    return servo.execute(packet, model::Addressing::Unicast).error;
+    return test::bus_write(servo, key, value);
   }
   /// The error byte of a Ping status now (carries the alert bit and 1.0 hardware error bits).
   std::uint8_t ping_error() {
