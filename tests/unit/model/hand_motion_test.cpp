@@ -18,7 +18,6 @@ namespace dxlemu::test::hand_motion {
 
 using model::Grip;
 using model::Servo;
-using Bytes = std::vector<std::uint8_t>;
 
 constexpr std::int64_t kTurnPulses = 4096;
 constexpr std::int64_t kCurrentPositionMode = 5;
