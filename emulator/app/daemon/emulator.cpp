@@ -1,5 +1,6 @@
 #include "app/daemon/emulator.hpp"
 
+#include <algorithm>
 #include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <chrono>
@@ -27,8 +28,8 @@ namespace {
 
 // After a control API shutdown, how long replies still queued get to reach their clients.
 constexpr std::chrono::milliseconds kShutdownFlush{100};
-// How far the physics world may lag simulated time between reads (Emulator::world_).
-constexpr std::chrono::milliseconds kPhysicsCatchUp{10};
+// How far the physics world, and servos a hand moves, may lag simulated time between reads.
+constexpr std::chrono::milliseconds kMotionCatchUp{10};
 
 }  // namespace
 
@@ -136,7 +137,6 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     for (const JointConfig& j : config.physics->joints) {
       physics_view_->coupled.push_back({j.joint, j.port, j.id});
     }
-    schedule_physics_catch_up();
   }
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
   driver_.set_after_events([this] { finish_handler(); });
@@ -149,6 +149,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         const control::Connection connection{
             session.id(), [&session](std::string event) { session.send(std::move(event)); }};
         std::string reply = api_->handle(line, &connection);
+        keep_motion_caught_up();
         driver_.rearm();
         finish_handler();  // a set of an EEPROM item is kept like a bus write
         return reply;
@@ -156,6 +157,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
       io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
   control_->on_close([this](io::ControlSession& session) { trace_->unsubscribe(session.id()); });
   start_hands();
+  keep_motion_caught_up();
   if (options_.scenario) {
     // Its steps count from now, the start of simulated time.
     const std::string origin = options_.scenario->string();
@@ -197,7 +199,11 @@ void Emulator::unsubscribe_trace(std::uint64_t connection) {
 }
 
 void Emulator::schedule_in(sim::SimDuration delay, std::function<void()> action) {
-  scheduler_.schedule_at(scheduler_.now() + delay, std::move(action));
+  // A scenario step may put a hand on a servo.
+  scheduler_.schedule_at(scheduler_.now() + delay, [this, action = std::move(action)] {
+    action();
+    keep_motion_caught_up();
+  });
 }
 
 std::shared_ptr<const model::Trajectory> Emulator::trajectory(const std::string& file) {
@@ -205,10 +211,29 @@ std::shared_ptr<const model::Trajectory> Emulator::trajectory(const std::string&
       read_trajectory_file(find_trajectory(file, options_.trajectory_dirs)));
 }
 
-void Emulator::schedule_physics_catch_up() {
-  scheduler_.schedule_at(scheduler_.now() + kPhysicsCatchUp, [this] {
-    world_->advance_to(scheduler_.now());
-    schedule_physics_catch_up();
+bool Emulator::motion_to_catch_up() const {
+  // A hand keeps its servos moving whoever reads them; so does a world its joints.
+  return world_ != nullptr || std::any_of(ports_.begin(), ports_.end(), [](const auto& port) {
+           const auto& servos = port->bus->servos();
+           return std::any_of(servos.begin(), servos.end(),
+                              [](const auto& servo) { return servo->motion().hand() != nullptr; });
+         });
+}
+
+void Emulator::keep_motion_caught_up() {
+  if (catching_up_ || !motion_to_catch_up()) {
+    return;
+  }
+  catching_up_ = true;
+  scheduler_.schedule_at(scheduler_.now() + kMotionCatchUp, [this] {
+    catching_up_ = false;
+    if (world_) {
+      world_->advance_to(scheduler_.now());
+    }
+    for (const auto& port : ports_) {
+      port->bus->catch_up();
+    }
+    keep_motion_caught_up();
   });
 }
 

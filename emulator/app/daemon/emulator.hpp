@@ -65,9 +65,13 @@ class Emulator : public control::Target {
   /// Puts on each port the hands its config starts with (--hand, "hand"). Throws
   /// std::invalid_argument naming where the hand was given and why it is refused.
   void start_hands();
-  /// Keeps the physics world within 10 ms of simulated time, so that a read after a
-  /// long quiet spell does not run all the ticks since at once.
-  void schedule_physics_catch_up();
+  /// Keeps the physics world, and the servos a hand moves, within 10 ms of simulated time, so
+  /// that a read after a long quiet spell does not run all the ticks since at once: while
+  /// there is such motion, an event every 10 ms catches them up. Called whenever a hand may
+  /// have been put on a servo.
+  void keep_motion_caught_up();
+  /// There is a world or a hand on some servo.
+  bool motion_to_catch_up() const;
 
   RunOptions options_;
   boost::asio::io_context io_;
@@ -85,6 +89,7 @@ class Emulator : public control::Target {
   std::unique_ptr<control::Api> api_;
   std::unique_ptr<io::ControlServer> control_;
   bool shutting_down_ = false;
+  bool catching_up_ = false;  // keep_motion_caught_up()'s event is scheduled
 };
 
 }  // namespace dxlemu::app
