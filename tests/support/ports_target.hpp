@@ -5,18 +5,19 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "app/config/trajectory_file.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "bus/bus.hpp"
 #include "bus/loopback_link.hpp"
 #include "control/target.hpp"
 #include "faults/injector.hpp"
 #include "faults/port_faults.hpp"
+#include "model/hand/trajectory.hpp"
 #include "shipped_model.hpp"
 #include "sim/scheduler.hpp"
 
@@ -47,7 +48,8 @@ class PortsTarget : public control::Target {
   std::map<std::uint64_t, std::vector<std::string>> subscriptions;  // by client
   std::vector<std::string> warnings;
   control::PhysicsView* world = nullptr;  // what physics() returns
-  /// What trajectory() returns for a name; any other name is read as a file.
+  /// What trajectory() returns for a name; any other is refused (no file is read: the control
+  /// API's fuzz target runs on this target).
   std::map<std::string, std::shared_ptr<const model::Trajectory>> trajectories;
 
   /// Adds a port named `name` under the target's fault rules.
@@ -85,7 +87,7 @@ class PortsTarget : public control::Target {
     if (const auto known = trajectories.find(file); known != trajectories.end()) {
       return known->second;
     }
-    return std::make_shared<const model::Trajectory>(app::read_trajectory_file(file));
+    throw std::invalid_argument(file + " is no trajectory of this test");
   }
   sim::SimTime now() const override { return scheduler.now(); }
   bool manual_clock() const override { return manual; }
