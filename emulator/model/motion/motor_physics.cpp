@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/motion/signum.hpp"
+
 namespace dxlemu::model {
 namespace {
 
@@ -19,9 +21,6 @@ constexpr double kAtLimit = 0.95;
 constexpr double kTemperatureSnapC = 1e-3;
 constexpr double kVelocitySnap = 1e-6;
 
-double sign(double x) {
-  return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
-}
 
 }  // namespace
 
@@ -44,7 +43,7 @@ double MotorPhysics::free_velocity(const Conditions& conditions) const {
   if (conditions.blocked || excess <= 0) {
     return 0;
   }
-  return sign(conditions.external_load_nm) * params_.no_load_speed *
+  return signum(conditions.external_load_nm) * params_.no_load_speed *
          std::min(1.0, excess / params_.stall_torque_nm);
 }
 
@@ -84,7 +83,7 @@ double MotorPhysics::follow(const DriveCommand& command, const Conditions& condi
   // The torque to be exactly on target at the end of the tick, against the external load.
   const double needed =
       params_.inertia * (wanted - state_.velocity) / tick_ms_ - conditions.external_load_nm;
-  const double avail = available(sign(needed), cap, supply, command.duty_cap);
+  const double avail = available(signum(needed), cap, supply, command.duty_cap);
   if (std::abs(needed) <= avail && std::abs(wanted) <= top) {
     torque = needed;
     return wanted;
@@ -92,7 +91,7 @@ double MotorPhysics::follow(const DriveCommand& command, const Conditions& condi
   torque = std::clamp(needed, -avail, avail);
   double v = accelerate(torque, avail, conditions, top);
   // The controller never drives past its target within a tick.
-  if (sign(v) == sign(wanted) && std::abs(v) > std::abs(wanted)) {
+  if (signum(v) == signum(wanted) && std::abs(v) > std::abs(wanted)) {
     v = wanted;
   }
   return v;
@@ -156,7 +155,7 @@ void MotorPhysics::step(const DriveCommand& command, const Conditions& outside, 
       velocity = follow(limited, conditions, torque);
       break;
     case DriveCommand::Kind::Torque: {
-      const double avail = available(sign(command.torque_nm), cap, supply, command.duty_cap);
+      const double avail = available(signum(command.torque_nm), cap, supply, command.duty_cap);
       torque = std::clamp(command.torque_nm, -avail, avail);
       velocity = conditions.blocked
                      ? 0

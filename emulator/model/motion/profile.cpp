@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "model/motion/signum.hpp"
+
 namespace dxlemu::model {
 
 namespace {
@@ -19,13 +21,6 @@ double limit(double value) {
   return kInfinity;
 }
 
-/// -1, 0 or +1.
-double sign(double value) {
-  if (value > 0) {
-    return 1;
-  }
-  return value < 0 ? -1 : 0;
-}
 
 }  // namespace
 
@@ -57,7 +52,7 @@ Profile Profile::velocity_based(double start, double start_velocity, double goal
     // Profile Acceleration 0 = infinite acceleration: the velocity jumps to the profile velocity
     // toward the goal whatever it was (velocity override has nothing to keep continuous).
     Profile profile(start, velocity, goal, ProfileType::Rectangular);
-    const double cruise_velocity = sign(distance) * vmax;
+    const double cruise_velocity = signum(distance) * vmax;
     profile.push(std::abs(distance) / vmax, 0, cruise_velocity);
     profile.finish();
     return profile;
@@ -106,7 +101,7 @@ Profile Profile::time_based(double start, double start_velocity, double goal, do
 
   // From rest: t1 of acceleration, t3 - 2·t1 at the peak, t1 of deceleration, so the distance is
   // peak · (t3 - t1).
-  const double direction = sign(distance);
+  const double direction = signum(distance);
   const double peak = length / (total_ms - t1);
   if (t1 == 0) {
     Profile profile(start, 0, goal, ProfileType::Rectangular);
@@ -183,7 +178,7 @@ void Profile::push(double duration_ms, double acceleration, double end_velocity)
 
 void Profile::brake(double acceleration) {
   const double velocity = end_state().velocity;
-  push(std::abs(velocity) / acceleration, -sign(velocity) * acceleration, 0);
+  push(std::abs(velocity) / acceleration, -signum(velocity) * acceleration, 0);
 }
 
 void Profile::approach(double max_velocity, double acceleration) {
@@ -192,7 +187,7 @@ void Profile::approach(double max_velocity, double acceleration) {
   if (distance == 0 && from.velocity == 0) {
     return;
   }
-  const double direction = distance != 0 ? sign(distance) : sign(from.velocity);
+  const double direction = distance != 0 ? signum(distance) : signum(from.velocity);
   const double length = std::abs(distance);
   const double speed = direction * from.velocity;  // >= 0: toward the goal
   const double accel = direction * acceleration;

@@ -81,10 +81,9 @@ struct HandRig {
 
 }  // namespace dxlemu::test::hand_motion
 
-using dxlemu::test::hand_motion::HandRig;
-using dxlemu::test::hand_motion::kCurrentPositionMode;
-using dxlemu::test::hand_motion::kHwOverload;
-using dxlemu::test::hand_motion::kTurnPulses;
+// Qualified names: unity builds put this file beside others with names of their own.
+namespace hand_motion = dxlemu::test::hand_motion;
+using hand_motion::HandRig;
 
 TEST_CASE("A torque-off shaft follows a hand exactly, tick by tick", "[model][hand]") {
   HandRig rig("xm430-w350");
@@ -115,7 +114,7 @@ TEST_CASE("A hand takes the shaft the short way round to the angle it holds", "[
   REQUIRE(rig.get("present_position") == 4000);
   // 10 and 4106 are the same angle: the hand goes 202 pulses forward across the seam, not
   // 3990 back.
-  rig.hand(10 + 2 * kTurnPulses, 10 + 2 * kTurnPulses, 10, 10);
+  rig.hand(10 + 2 * hand_motion::kTurnPulses, 10 + 2 * hand_motion::kTurnPulses, 10, 10);
   rig.to_ms(200);
   CHECK(rig.get("present_position") == 4106);
 }
@@ -142,7 +141,7 @@ TEST_CASE("A hand stronger than the servo moves it and the servo overloads", "[m
   rig.to_ms(600);
   CHECK(rig.get("present_position") > held + 900);
   rig.to_ms(5000);
-  CHECK((rig.get("hardware_error_status") & kHwOverload) != 0);
+  CHECK((rig.get("hardware_error_status") & hand_motion::kHwOverload) != 0);
   CHECK(rig.get("torque_enable") == 0);
   // Shut down, the shaft is free: the hand now has it exactly.
   CHECK(rig.get("present_position") == held + 1000);
@@ -151,7 +150,7 @@ TEST_CASE("A hand stronger than the servo moves it and the servo overloads", "[m
 TEST_CASE("A hand squeezes a gripper held by Goal Current in Current-based Position mode",
           "[model][hand]") {
   HandRig rig("xl330-m077");
-  REQUIRE(rig.write("operating_mode", kCurrentPositionMode) == 0);
+  REQUIRE(rig.write("operating_mode", hand_motion::kCurrentPositionMode) == 0);
   REQUIRE(rig.write("goal_current", 30) == 0);
   REQUIRE(rig.write("torque_enable", 1) == 0);
   const std::int64_t open = rig.get("present_position");
