@@ -34,6 +34,8 @@ set(DXLEMU_TEST_COSTS
   e2e.exec 2.7
   e2e.feetech_session 0.7
   e2e.firmware 0.3
+  e2e.hands 55.0
+  e2e.hands_physics 13.0
   e2e.late_replies 2.6
   e2e.lerobot_flows 1.6
   e2e.pcap_dissector 10.8

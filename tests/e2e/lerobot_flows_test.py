@@ -4,10 +4,11 @@ users find them (docs/feetech.md "LeRobot's flows, tested").
 Each test replays what LeRobot's FeetechMotorsBus sends, in LeRobot's order, as
 ../shared/reference/feetech/README.md "How lerobot drives the bus" describes it, rebuilt on the
 repository's own FT-SCS client (python/dxlemu: `Client(protocol="feetech")`, `dxlemu.feetech`'s
-sign-magnitude values); neither LeRobot nor FEETECH's SDK is used. `LeRobotBus` below holds
-those call sequences: the connect handshake, configure_motors(), disable_torque / enable_torque,
-the half-turn homing, the recording of the ranges of motion, the calibration written and read
-back, SYNC READ of Present_Position and SYNC WRITE of Goal_Position.
+sign-magnitude values); neither LeRobot nor FEETECH's SDK is used. `FeetechBus` (lerobot_bus.py,
+shared with hands_test.py) holds those call sequences: the connect handshake,
+configure_motors(), disable_torque / enable_torque, the half-turn homing, the recording of the
+ranges of motion, the calibration written and read back, SYNC READ of Present_Position and SYNC
+WRITE of Goal_Position.
 
 1. A kit shipped with Phase bit 4 set (full-angle feedback) on two of its servos: a calibration
    made before configure_motors() (LeRobot's `connect()` calibrates before it configures) fails
@@ -29,240 +30,24 @@ test steps the clock.
 """
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 import tempfile
 import unittest
-from typing import Iterable, Iterator, NamedTuple
+from typing import Iterable, Iterator
 
-from dxl_client import Control, Daemon, assert_unanswered, timeout_scale
-from dxlemu import feetech
-from dxlemu.protocol import BROADCAST_ID, FEETECH, Client
-
-# STS3215 items under LeRobot's names (models/feetech/sts3215.json).
-FIRMWARE_MAJOR, FIRMWARE_MINOR, MODEL_NUMBER, RETURN_DELAY_TIME = 0, 1, 3, 7
-MIN_POSITION_LIMIT, MAX_POSITION_LIMIT, PHASE, HOMING_OFFSET, OPERATING_MODE = 9, 11, 18, 31, 33
-TORQUE_ENABLE, ACCELERATION, GOAL_POSITION, LOCK, PRESENT_POSITION = 40, 41, 42, 55, 56
-MAXIMUM_ACCELERATION = 85  # read-only in FEETECH's table; LeRobot writes it all the same
-STS3215 = 777
+from dxl_client import Control, Daemon, timeout_scale
+from dxlemu.protocol import FEETECH, Client
+from lerobot_bus import FULL_ANGLE, HALF_TURN, LOCK, MAX_RES, RESOLUTION, Calibration, FeetechBus
 
 IDS = [1, 2, 3, 4, 5, 6]
-RESOLUTION = 4096
-MAX_RES = RESOLUTION - 1  # LeRobot's full range: Min_Position_Limit 0 ~ Max_Position_Limit 4095
-HALF_TURN = MAX_RES // 2  # LeRobot's middle: the half-turn homing makes Present read 2047
-HOMING_SIGN_BIT = 11  # Homing_Offset: sign-magnitude, bit 11 the sign
-POSITION_SIGN_BIT = 15  # Present_Position and Goal_Position: bit 15 the sign
-FULL_ANGLE = 0x10  # Phase bit 4: full-angle feedback (clear: single-turn)
 FACTORY_PHASE = 12
 SHIPPED_PHASE = FACTORY_PHASE | FULL_ANGLE
-POSITION_MODE = 0
 
 BOOT_MS = 1800  # the STS3215's restart time (models/feetech/sts3215.json "boot_ms")
 STEP_MS = 20  # how far the clock moves between two looks at moving servos
 HAND_STEP = 50  # how far a hand turns a shaft between two of LeRobot's readings
 ARRIVED = 3  # steps from a goal that count as there
-
-
-class BusError(Exception):
-    """What LeRobot raises when a servo answers with an error byte or with the wrong data."""
-
-
-class Ranges(NamedTuple):
-    """What record_ranges_of_motion saw: its mins and maxes, and every reading on the way."""
-
-    mins: dict[int, int]
-    maxes: dict[int, int]
-    readings: list[dict[int, int]]
-
-
-class Calibration(NamedTuple):
-    """One motor's calibration as LeRobot stores and writes it."""
-
-    homing_offset: int
-    range_min: int
-    range_max: int
-
-
-def encode_homing(value: int) -> bytes:
-    """Homing_Offset as LeRobot encodes it: sign-magnitude with the sign in bit 11, refusing a
-    magnitude the 11 bits cannot hold with LeRobot's message ("Magnitude ... exceeds 2047")."""
-    limit = (1 << HOMING_SIGN_BIT) - 1
-    if abs(value) > limit:
-        raise ValueError(f"Magnitude {abs(value)} exceeds {limit} (Homing_Offset, sign bit "
-                         f"{HOMING_SIGN_BIT})")
-    return feetech.encode(value, 2, sign_bit=HOMING_SIGN_BIT)
-
-
-class LeRobotBus:
-    """LeRobot's FeetechMotorsBus call sequences on our FT-SCS client: single reads and writes
-    with a status each, an error byte raising BusError (as LeRobot raises on one), SYNC READ of
-    Present_Position in the order of `ids`, SYNC WRITE of Goal_Position (no reply)."""
-
-    def __init__(self, client: Client, control: Control, port_name: str, ids: list[int]):
-        self.client = client
-        self.control = control
-        self.port_name = port_name
-        self.ids = ids
-
-    # Single items.
-
-    def write(self, ident: int, address: int, data: bytes) -> None:
-        reply = self.client.write(ident, address, data)
-        if reply.error:
-            raise BusError(f"write of {address} to {ident}: error byte {reply.error:#04x}")
-
-    def write_byte(self, ident: int, address: int, value: int) -> None:
-        self.write(ident, address, bytes([value]))
-
-    def write_word(self, ident: int, address: int, value: int) -> None:
-        """A 2-byte item; negative values in sign-magnitude (bit 15), as positions are."""
-        self.write(ident, address, feetech.encode(value, 2, sign_bit=POSITION_SIGN_BIT))
-
-    def read(self, ident: int, address: int, size: int, sign_bit: int | None = None) -> int:
-        reply = self.client.read(ident, address, size)
-        if reply.error or len(reply.data) != size:
-            raise BusError(f"read of {address} from {ident}: error byte {reply.error:#04x}, "
-                           f"data {reply.data.hex(' ')}")
-        return feetech.decode(reply.data, sign_bit=sign_bit)
-
-    # Group instructions.
-
-    def sync_read_raw(self, motors: list[int] | None = None) -> dict[int, bytes]:
-        """SYNC READ of Present_Position (56, 2 bytes) of `motors` (all by default): each
-        servo's bytes as they came."""
-        replies = self.client.sync_read(PRESENT_POSITION, 2, motors or self.ids)
-        for ident, reply in replies.items():
-            if len(reply.data) != 2:
-                raise BusError(f"Present_Position of {ident}: {reply.data.hex(' ')}")
-        return {ident: reply.data for ident, reply in replies.items()}
-
-    def sync_read_present(self, motors: list[int] | None = None) -> dict[int, int]:
-        """Present_Position of `motors` (all by default), decoded (sign-magnitude, bit 15)."""
-        return {ident: feetech.decode(data, sign_bit=POSITION_SIGN_BIT)
-                for ident, data in self.sync_read_raw(motors).items()}
-
-    def sync_write_goal(self, goals: dict[int, int]) -> None:
-        """SYNC WRITE of Goal_Position (42, 2 bytes). Nobody answers it: the packet is checked
-        read by the daemon and unanswered before anything else happens (dxl_client)."""
-        params = bytes([GOAL_POSITION, 2]) + b"".join(
-            bytes([ident]) + feetech.encode(goal, 2, sign_bit=POSITION_SIGN_BIT)
-            for ident, goal in goals.items())
-        packet = self.client.packet(BROADCAST_ID, feetech.SYNC_WRITE, params)
-        assert_unanswered(self.control, self.client.port, packet, self.port_name)
-
-    # LeRobot's steps.
-
-    def connect(self) -> tuple[int, int]:
-        """The connect handshake: ping every ID and read its model number (FEETECH's SDK's
-        ping), then the firmware bytes 0 and 1 of every motor, which must all be equal.
-        Returns the firmware (major, minor)."""
-        for ident in self.ids:
-            reply = self.client.ping(ident)
-            if reply.error:
-                raise BusError(f"ping of {ident}: error byte {reply.error:#04x}")
-            model = self.read(ident, MODEL_NUMBER, 2)
-            if model != STS3215:
-                raise BusError(f"motor {ident} is model {model}, not the sts3215 (777) expected")
-        firmware = {ident: (self.read(ident, FIRMWARE_MAJOR, 1),
-                            self.read(ident, FIRMWARE_MINOR, 1)) for ident in self.ids}
-        if len(set(firmware.values())) != 1:
-            raise BusError(f"motors of different firmware: {firmware}")
-        return firmware[self.ids[0]]
-
-    def configure_motors(self) -> None:
-        """Return_Delay_Time 0, Maximum_Acceleration 254, Acceleration 254, and Phase's bit 4
-        cleared where it is set (single-turn feedback)."""
-        for ident in self.ids:
-            self.write_byte(ident, RETURN_DELAY_TIME, 0)
-            self.write_byte(ident, MAXIMUM_ACCELERATION, 254)
-            self.write_byte(ident, ACCELERATION, 254)
-            phase = self.read(ident, PHASE, 1)
-            if phase & FULL_ANGLE:
-                self.write_byte(ident, PHASE, phase & ~FULL_ANGLE)
-
-    def disable_torque(self) -> None:
-        """Torque_Enable 0, then Lock 0 (EEPROM writes from now on survive power-off)."""
-        for ident in self.ids:
-            self.write_byte(ident, TORQUE_ENABLE, 0)
-            self.write_byte(ident, LOCK, 0)
-
-    def enable_torque(self) -> None:
-        """Torque_Enable 1, then Lock 1."""
-        for ident in self.ids:
-            self.write_byte(ident, TORQUE_ENABLE, 1)
-            self.write_byte(ident, LOCK, 1)
-
-    @contextlib.contextmanager
-    def torque_disabled(self) -> Iterator[None]:
-        self.disable_torque()
-        try:
-            yield
-        finally:
-            self.enable_torque()
-
-    def set_position_mode(self) -> None:
-        for ident in self.ids:
-            self.write_byte(ident, OPERATING_MODE, POSITION_MODE)
-
-    def reset_calibration(self) -> None:
-        """Homing_Offset 0 and the full range 0 ~ 4095 on every motor."""
-        for ident in self.ids:
-            self.write(ident, HOMING_OFFSET, encode_homing(0))
-            self.write_word(ident, MIN_POSITION_LIMIT, 0)
-            self.write_word(ident, MAX_POSITION_LIMIT, MAX_RES)
-
-    @staticmethod
-    def half_turn_homings(present: dict[int, int]) -> dict[int, int]:
-        """The offset that makes each Present_Position read the middle, 2047: Present =
-        Actual − Homing_Offset on FEETECH."""
-        return {ident: position - HALF_TURN for ident, position in present.items()}
-
-    def set_half_turn_homings(self) -> dict[int, int]:
-        """reset_calibration, one SYNC READ of Present_Position, then each motor's half-turn
-        homing offset written in turn (raising ValueError at the first one out of reach)."""
-        self.reset_calibration()
-        homings = self.half_turn_homings(self.sync_read_present())
-        for ident, offset in homings.items():
-            self.write(ident, HOMING_OFFSET, encode_homing(offset))
-        return homings
-
-    def record_ranges_of_motion(self, person: Iterable[object],
-                                motors: list[int] | None = None) -> Ranges:
-        """Reads Present_Position of `motors` (all by default) again each time `person` has
-        moved the joints a little (LeRobot reads in a loop until ENTER: here until the person is
-        done), keeping each motor's smallest and largest reading. A motor never moved is
-        refused, as LeRobot does."""
-        start = self.sync_read_present(motors)
-        mins, maxes, readings = dict(start), dict(start), [start]
-        for _ in person:
-            present = self.sync_read_present(motors)
-            readings.append(present)
-            for ident, position in present.items():
-                mins[ident] = min(mins[ident], position)
-                maxes[ident] = max(maxes[ident], position)
-        same = [ident for ident in start if mins[ident] == maxes[ident]]
-        if same:
-            raise ValueError(f"Some motors have the same min and max values: {same}")
-        return Ranges(mins, maxes, readings)
-
-    def write_calibration(self, calibration: dict[int, Calibration]) -> None:
-        for ident, motor in calibration.items():
-            self.write(ident, HOMING_OFFSET, encode_homing(motor.homing_offset))
-            self.write_word(ident, MIN_POSITION_LIMIT, motor.range_min)
-            self.write_word(ident, MAX_POSITION_LIMIT, motor.range_max)
-
-    def read_calibration(self) -> dict[int, Calibration]:
-        return {ident: Calibration(self.read(ident, HOMING_OFFSET, 2, HOMING_SIGN_BIT),
-                                   self.read(ident, MIN_POSITION_LIMIT, 2),
-                                   self.read(ident, MAX_POSITION_LIMIT, 2))
-                for ident in self.ids}
-
-    def phases(self) -> dict[int, int]:
-        return {ident: self.read(ident, PHASE, 1) for ident in self.ids}
-
-    def torques(self) -> dict[int, int]:
-        return {ident: self.read(ident, TORQUE_ENABLE, 1) for ident in self.ids}
 
 
 class Hands:
@@ -330,7 +115,7 @@ class LeRobotFlow(unittest.TestCase):
         self.client = Client(self.daemon.ready["link"], baud=1_000_000, protocol=FEETECH,
                              timeout=0.5 * timeout_scale())
         self.addCleanup(self.client.close)
-        self.bus = LeRobotBus(self.client, self.control, self.port_name, IDS)
+        self.bus = FeetechBus(self.client, self.control, self.port_name, IDS)
         self.hands = Hands(self.control, self.port_name)
 
     def start_six(self) -> None:

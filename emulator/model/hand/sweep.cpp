@@ -12,6 +12,11 @@ namespace {
 /// The five positions a joint passes: start, middle, low, high, middle.
 constexpr std::size_t kWaypoints = 5;
 
+/// Whether the hand holds a joint still once it reached waypoint `index`: at low and high.
+bool held_at(std::size_t index) {
+  return index == 2 || index == 3;
+}
+
 std::array<double, kWaypoints> waypoints(const SweepJoint& joint) {
   return {joint.start, joint.middle, joint.low, joint.high, joint.middle};
 }
@@ -80,7 +85,8 @@ Trajectory make_sweep(const std::vector<SweepJoint>& joints, SweepOrder order) {
   Keyframes keyframes(std::move(row));
 
   // The move from waypoint `from` to the next by every joint at once, lasting as long as the
-  // slowest joint needs; OneByOne moves this way only from start to middle.
+  // slowest joint needs, then the hold there if there is one; OneByOne moves this way only from
+  // start to middle.
   const auto all_move = [&](std::size_t from) {
     double longest = 0;
     std::vector<double> next;
@@ -90,7 +96,10 @@ Trajectory make_sweep(const std::vector<SweepJoint>& joints, SweepOrder order) {
       longest = std::max(longest, move_s(joint, points[from], points[from + 1]));
       next.push_back(points[from + 1]);
     }
-    keyframes.append(longest, std::move(next));
+    keyframes.append(longest, next);
+    if (held_at(from + 1)) {
+      keyframes.append(kSweepHoldS, std::move(next));
+    }
   };
 
   all_move(0);
@@ -104,7 +113,10 @@ Trajectory make_sweep(const std::vector<SweepJoint>& joints, SweepOrder order) {
       for (std::size_t from = 1; from + 1 < kWaypoints; ++from) {
         std::vector<double> next = keyframes.last();
         next[j] = points[from + 1];
-        keyframes.append(move_s(joints[j], points[from], points[from + 1]), std::move(next));
+        keyframes.append(move_s(joints[j], points[from], points[from + 1]), next);
+        if (held_at(from + 1)) {
+          keyframes.append(kSweepHoldS, std::move(next));
+        }
       }
     }
   }

@@ -86,6 +86,13 @@ void MotionContext::wrap_to_one_turn() {
   motor.set_position(p - std::floor(p / turn) * turn);
 }
 
+ProfilePoint MotionContext::desired_point() const {
+  if (profile) {
+    return profile->at(profile_elapsed_ms());
+  }
+  return {motor.state().position, motor.state().velocity};
+}
+
 void MotionContext::plan_at_speed(double goal, double acceleration) {
   const MotorParams& p = motor.params();
   const MotorState& s = motor.state();

@@ -110,6 +110,10 @@ struct MotionContext {
   /// How far the profile is at the time of the motor's state, ms.
   double profile_elapsed_ms() const { return Ms(state_time - profile_start).count(); }
   bool profile_running() const { return profile && profile_elapsed_ms() < profile->duration_ms(); }
+  /// Where the servo wants the shaft at the time of the motor's state: the point of the move
+  /// under way (a finished one holds its goal), or, with none, the shaft's own position and
+  /// velocity. Pulses and pulses/ms.
+  ProfilePoint desired_point() const;
   /// Moves the shaft back within one turn (reboot, Clear, torque on in Position Control Mode).
   void wrap_to_one_turn();
   /// A move to `goal` (pulses) at the speed of Moving Speed (0: as fast as the motor goes) or,

@@ -153,15 +153,23 @@ class OperatingModeDrive final : public Drive {
       velocity = time_ms(items.profile_time);
       acceleration = time_ms(items.profile_acceleration_time);
     }
-    motion_.profile_start = motion_.state_time;
     if (velocity == 0) {
-      // No profile: the motor goes as fast as it can (Moving Status reports no profile).
+      // No profile: the motor goes as fast as it can (Moving Status reports no profile). The
+      // desired position goes on from where it was, not from the shaft: without a profile the
+      // goal is the desired position at once (the e-Manual's step), so a new goal never takes
+      // back the position error a servo holds a load with. Planned from the shaft, every goal
+      // written dropped that error, and the torque with it, for the few ms the motor takes to
+      // build it up again: a joint under gravity, its goal rewritten every 10 ms as a
+      // teleoperation loop does, sagged tens of degrees (tests/e2e/hands_test.py).
+      const ProfilePoint from = motion_.desired_point();
       const double top = motion_.motor.top_speed(motion_.duty_cap(), motion_.conditions.supply_v);
-      motion_.profile = Profile::velocity_based(s.position, s.velocity, goal, top,
+      motion_.profile_start = motion_.state_time;
+      motion_.profile = Profile::velocity_based(from.position, from.velocity, goal, top,
                                                 motion_.fastest_acceleration());
       motion_.step_profile = true;
       return;
     }
+    motion_.profile_start = motion_.state_time;
     motion_.step_profile = false;
     if (time_based) {
       motion_.profile = Profile::time_based(s.position, s.velocity, goal, velocity, acceleration);

@@ -2,6 +2,7 @@
 // range-of-motion sweep: the arithmetic every virtual hand runs on (docs/hands.md).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -259,13 +260,15 @@ TEST_CASE("A one-by-one sweep brings every joint to middle, then sweeps each in 
   CHECK(t.origin() == "sweep");
   CHECK(t.columns() == std::vector<TrajectoryColumn>{{"shoulder_pan", JointUnit::Degrees},
                                                      {"gripper", JointUnit::Raw}});
-  const std::vector<std::vector<double>> expected{{10, 2048}, {0, 2048}, {-90, 2048}, {90, 2048},
-                                                  {0, 2048},  {0, 2000}, {0, 3000},   {0, 2048}};
+  const std::vector<std::vector<double>> expected{{10, 2048}, {0, 2048},  {-90, 2048}, {-90, 2048},
+                                                  {90, 2048}, {90, 2048}, {0, 2048},   {0, 2000},
+                                                  {0, 2000},  {0, 3000},  {0, 3000},   {0, 2048}};
   // Each move lasts its distance over the joint's speed, at least 0.1 s: both to middle in the
   // pan's 10 degrees at 60/s (the gripper is there already); the pan's 90, 180, 90 degrees; the
-  // gripper's 48 (0.096 s, so 0.1), 1000, 952 pulses at 500/s.
-  const std::vector<double> times{0,           1.0 / 6,       1.0 / 6 + 1.5, 1.0 / 6 + 4.5,
-                                  1.0 / 6 + 6, 1.0 / 6 + 6.1, 1.0 / 6 + 8.1, 1.0 / 6 + 10.004};
+  // gripper's 48 (0.096 s, so 0.1), 1000, 952 pulses at 500/s. Each end is held 0.3 s.
+  const double m = 1.0 / 6;
+  const std::vector<double> times{0,       m,       m + 1.5, m + 1.8, m + 4.8, m + 5.1,
+                                  m + 6.6, m + 6.7, m + 7.0, m + 9.0, m + 9.3, m + 11.204};
   REQUIRE(t.row_count() == expected.size());
   for (std::size_t r = 0; r < expected.size(); ++r) {
     INFO("row " << r);
@@ -300,13 +303,39 @@ TEST_CASE("A sweep reaches low and high, ends at middle, and its times increase"
   }
 }
 
+TEST_CASE("A sweep holds each end long enough for a reader polling every 20 ms to see it",
+          "[hand]") {
+  // LeRobot's record_ranges_of_motion reads about every 20 ms, at times that have nothing to do
+  // with the sweep's keyframes: whatever its phase, some reading falls on each end.
+  constexpr double kPollS = 0.02;
+  for (const auto order : {SweepOrder::OneByOne, SweepOrder::Together}) {
+    const Trajectory t = make_sweep(sweep_joints(), order);
+    const auto joints = sweep_joints();
+    for (const double phase : {0.0, 0.003, 0.0071, 0.0137, 0.0199}) {
+      for (std::size_t c = 0; c < joints.size(); ++c) {
+        double low = joints[c].start;
+        double high = joints[c].start;
+        for (double at = phase; at <= t.duration_s(); at += kPollS) {
+          const double v = t.at(c, at, Interpolation::Linear).value;
+          low = std::min(low, v);
+          high = std::max(high, v);
+        }
+        INFO("column " << c << ", phase " << phase);
+        CHECK(low == joints[c].low);
+        CHECK(high == joints[c].high);
+      }
+    }
+  }
+}
+
 TEST_CASE("A sweep of all joints together aligns their keyframes on the slowest", "[hand]") {
   const Trajectory t = make_sweep(sweep_joints(), SweepOrder::Together);
-  const std::vector<std::vector<double>> expected{
-      {10, 2048}, {0, 2048}, {-90, 2000}, {90, 3000}, {0, 2048}};
+  const std::vector<std::vector<double>> expected{{10, 2048}, {0, 2048},  {-90, 2000}, {-90, 2000},
+                                                  {90, 3000}, {90, 3000}, {0, 2048}};
   // Each move as long as the slower joint's: 10/60 s, 1.5 s (pan; gripper 0.096 s), 3 s (pan;
-  // gripper 2 s), 1.904 s (gripper; pan 1.5 s).
-  const std::vector<double> times{0, 1.0 / 6, 1.0 / 6 + 1.5, 1.0 / 6 + 4.5, 1.0 / 6 + 6.404};
+  // gripper 2 s), 1.904 s (gripper; pan 1.5 s); both ends held 0.3 s by both joints.
+  const double m = 1.0 / 6;
+  const std::vector<double> times{0, m, m + 1.5, m + 1.8, m + 4.8, m + 5.1, m + 7.004};
   REQUIRE(t.row_count() == expected.size());
   for (std::size_t r = 0; r < expected.size(); ++r) {
     INFO("row " << r);
@@ -318,8 +347,8 @@ TEST_CASE("A sweep of all joints together aligns their keyframes on the slowest"
 
 TEST_CASE("A sweep with nothing to move still has increasing times", "[hand]") {
   const Trajectory t = make_sweep({{"1", JointUnit::Raw, 5, 5, 5, 5, 100}}, SweepOrder::OneByOne);
-  REQUIRE(t.row_count() == 5);
-  CHECK(t.duration_s() == Approx(4 * kMinSweepMoveS));
+  REQUIRE(t.row_count() == 7);
+  CHECK(t.duration_s() == Approx(4 * kMinSweepMoveS + 2 * kSweepHoldS));
   CHECK(play(t, Playback{}, 0, 0.25).value == 5);
 }
 

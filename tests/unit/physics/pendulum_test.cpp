@@ -101,6 +101,28 @@ TEST_CASE("Holding the link level draws the current m*g*l over the torque consta
   CHECK(p.get("present_temperature") > 25);
 }
 
+TEST_CASE("A goal written again and again keeps the current that holds the link",
+          "[physics][mujoco]") {
+  // A teleoperation loop writes every joint's goal each period, mostly the same value. Without
+  // a profile (Profile Velocity 0) the goal is the desired position at once: the position error
+  // the P controller holds the load with must survive each write, not be planned away from the
+  // shaft and built up again while gravity pulls.
+  Pendulum p;
+  p.set("torque_enable", 1);
+  p.wait_ms(2000);
+  const std::int64_t holding = p.get("present_current");
+  const std::int64_t held = p.get("present_position");
+  REQUIRE(holding < -90);
+  for (int write = 0; write < 100; ++write) {
+    p.set("goal_position", kLevel);
+    p.wait_ms(1);
+    INFO("write " << write);
+    CHECK(std::abs(p.get("present_current") - holding) <= 2);
+    p.wait_ms(9);
+    CHECK(std::abs(p.get("present_position") - held) <= 1);
+  }
+}
+
 TEST_CASE("With torque off the link falls as MuJoCo says", "[physics][mujoco]") {
   Pendulum p;
   p.wait_ms(150);
