@@ -29,7 +29,8 @@ std::optional<Grip> TrajectoryHand::grip(sim::SimTime t) const {
   const JointUnit unit = trajectory_->columns()[column_].unit;
   const Trajectory::Sample sample = play(*trajectory_, playback_, column_, elapsed_s(t));
   return Grip{scale_.to_pulses(sample.value, unit),
-              sample.rate_per_s * scale_.pulses_per(unit) / kMillisecondsPerSecond, force_limit_nm_};
+              sample.rate_per_s * scale_.pulses_per(unit) / kMillisecondsPerSecond,
+              force_limit_nm_};
 }
 
 bool TrajectoryHand::still_from(sim::SimTime t) const {

@@ -21,7 +21,6 @@ constexpr double kAtLimit = 0.95;
 constexpr double kTemperatureSnapC = 1e-3;
 constexpr double kVelocitySnap = 1e-6;
 
-
 }  // namespace
 
 MotorPhysics::MotorPhysics(const MotorParams& params, double tick_ms, double position,

@@ -21,7 +21,6 @@ double limit(double value) {
   return kInfinity;
 }
 
-
 }  // namespace
 
 Profile::Profile(double start, double start_velocity, double goal, ProfileType type)

@@ -246,7 +246,7 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
         R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
         R"("servo.attach","servo.power_cycle","fault.add","fault.list","fault.remove",)"
         R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","hand",)"
-      R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
+        R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
         R"("physics.apply","clock.now","clock.step","stats","shutdown","help"]})");
 }
 
