@@ -8,7 +8,7 @@ client (lerobot_bus.py); the calibrate() and configure() steps follow huggingfac
 `scripts/lerobot_teleoperate.py`, read and replayed, not copied. The person LeRobot asks to move
 the arm is a virtual hand (`Person`): with the torque off a shaft follows it exactly.
 
-1. SO-101 leader calibration (manual timing): torque off, position mode, the hand brings every
+1. SO-101 leader calibration (manual timing, and once on the wall clock): torque off, position mode, the hand brings every
    joint to the middle of its range, half-turn homings, then a sweep (hand.sweep, or the shipped
    so101-leader-calibration-sweep trajectory) while record_ranges_of_motion reads every 20 ms;
    wrist_roll full-turn. Each recorded range is the joint's range of robots/so101-leader.json
@@ -446,6 +446,17 @@ class So101LeaderCalibration(HandsTest):
         arm = rig.arm("so101-leader", "arm")
         arm.bus.connect()
         calibrated = so101_calibrate(arm, HandSweep(arm.person))
+        self.check_calibration(arm, calibrated)
+
+    def test_on_the_wall_clock_a_fast_sweep_records_the_same_ranges(self):
+        # --timing fast: the hand moves as the wall clock goes and LeRobot's reads come every
+        # 20 ms of it. The sweep's stop at each end outlasts a read, so even a quick sweep (all
+        # joints together at 360 °/s, about 3 s) gives exactly the same calibration.
+        rig = self.serve("--robot", "so101-leader", timing="fast")
+        arm = rig.arm("so101-leader", "arm")
+        arm.bus.connect()
+        calibrated = so101_calibrate(arm, HandSweep(arm.person, order="together",
+                                                    speed_deg_s=360))
         self.check_calibration(arm, calibrated)
 
     def test_the_shipped_calibration_sweep_records_the_same_ranges(self):
