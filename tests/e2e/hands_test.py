@@ -259,14 +259,25 @@ def so101_calibrate(arm: Arm, moves: HandSweep | ShippedSweep) -> Calibrated:
     assert isinstance(bus, FeetechBus)
     bus.disable_torque()
     bus.set_position_mode()
+    return calibrate_by_hand(arm, moves, SO101_FULL_TURN, {})
+
+
+def calibrate_by_hand(arm: Arm, moves, full_turn: set[str],
+                      drive_modes: dict[int, int]) -> Calibrated:
+    """The part of calibrate() both buses share: the person brings the arm to the middle,
+    set_half_turn_homings, record_ranges_of_motion while the person sweeps (the `full_turn`
+    joints are not recorded: 0 ~ 4095), write_calibration with `drive_modes` (by ID; 0 if not
+    given)."""
+    bus = arm.bus
     moves.to_the_middle()
     homings = bus.set_half_turn_homings()
     ranges = bus.record_ranges_of_motion(moves.through_the_ranges(),
-                                         arm.ids(without=SO101_FULL_TURN))
+                                         arm.ids(without=full_turn))
     mins, maxes = dict(ranges.mins), dict(ranges.maxes)
     for ident in set(arm.ids()) - set(mins):
         mins[ident], maxes[ident] = 0, MAX_RES
-    calibration = {i: Calibration(homings[i], mins[i], maxes[i]) for i in arm.ids()}
+    calibration = {i: Calibration(homings[i], mins[i], maxes[i], drive_modes.get(i, 0))
+                   for i in arm.ids()}
     bus.write_calibration(calibration)
     return Calibrated(homings, ranges, calibration)
 
@@ -291,17 +302,7 @@ def koch_calibrate(arm: Arm, moves: HandSweep) -> Calibrated:
         bus.write(ident, Xl330.OPERATING_MODE, Xl330.EXTENDED_POSITION)
     inverted = arm.joint(KOCH_INVERTED).id
     bus.write(inverted, Xl330.DRIVE_MODE, Xl330.INVERTED)
-    moves.to_the_middle()
-    homings = bus.set_half_turn_homings()
-    ranges = bus.record_ranges_of_motion(moves.through_the_ranges(),
-                                         arm.ids(without=KOCH_FULL_TURN))
-    mins, maxes = dict(ranges.mins), dict(ranges.maxes)
-    for ident in set(arm.ids()) - set(mins):
-        mins[ident], maxes[ident] = 0, MAX_RES
-    calibration = {i: Calibration(homings[i], mins[i], maxes[i], int(i == inverted))
-                   for i in arm.ids()}
-    bus.write_calibration(calibration)
-    return Calibrated(homings, ranges, calibration)
+    return calibrate_by_hand(arm, moves, KOCH_FULL_TURN, {inverted: Xl330.INVERTED})
 
 
 def koch_configure(arm: Arm, calibration: dict[int, Calibration]) -> int:
