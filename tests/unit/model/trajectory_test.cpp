@@ -44,8 +44,21 @@ std::vector<SweepJoint> sweep_joints() {
           {"gripper", JointUnit::Raw, 2048, 2000, 3000, 2048, 500}};
 }
 
+/// `t`'s two columns are `expected` (a row each) at `times`.
+void check_two_columns(const Trajectory& t, const std::vector<std::vector<double>>& expected,
+                       const std::vector<double>& times) {
+  REQUIRE(t.row_count() == expected.size());
+  for (std::size_t r = 0; r < expected.size(); ++r) {
+    INFO("row " << r);
+    CHECK(t.value(r, 0) == expected[r][0]);
+    CHECK(t.value(r, 1) == expected[r][1]);
+    CHECK(t.times_s()[r] == Approx(times[r]));
+  }
+}
+
 }  // namespace trajectory_test_helpers
 
+using trajectory_test_helpers::check_two_columns;
 using trajectory_test_helpers::dense;
 using trajectory_test_helpers::one_column;
 using trajectory_test_helpers::sweep_joints;
@@ -269,13 +282,7 @@ TEST_CASE("A one-by-one sweep brings every joint to middle, then sweeps each in 
   const double m = 1.0 / 6;
   const std::vector<double> times{0,       m,       m + 1.5, m + 1.8, m + 4.8, m + 5.1,
                                   m + 6.6, m + 6.7, m + 7.0, m + 9.0, m + 9.3, m + 11.204};
-  REQUIRE(t.row_count() == expected.size());
-  for (std::size_t r = 0; r < expected.size(); ++r) {
-    INFO("row " << r);
-    CHECK(t.value(r, 0) == expected[r][0]);
-    CHECK(t.value(r, 1) == expected[r][1]);
-    CHECK(t.times_s()[r] == Approx(times[r]));
-  }
+  check_two_columns(t, expected, times);
 }
 
 TEST_CASE("A sweep reaches low and high, ends at middle, and its times increase", "[hand]") {
@@ -336,13 +343,7 @@ TEST_CASE("A sweep of all joints together aligns their keyframes on the slowest"
   // gripper 2 s), 1.904 s (gripper; pan 1.5 s); both ends held 0.3 s by both joints.
   const double m = 1.0 / 6;
   const std::vector<double> times{0, m, m + 1.5, m + 1.8, m + 4.8, m + 5.1, m + 7.004};
-  REQUIRE(t.row_count() == expected.size());
-  for (std::size_t r = 0; r < expected.size(); ++r) {
-    INFO("row " << r);
-    CHECK(t.value(r, 0) == expected[r][0]);
-    CHECK(t.value(r, 1) == expected[r][1]);
-    CHECK(t.times_s()[r] == Approx(times[r]));
-  }
+  check_two_columns(t, expected, times);
 }
 
 TEST_CASE("A sweep with nothing to move still has increasing times", "[hand]") {
