@@ -155,7 +155,7 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
         return reply;
       },
       io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
-  control_->on_close([this](io::ControlSession& session) { trace_->unsubscribe(session.id()); });
+  control_->on_close([this](io::ControlSession& session) { api_->closed(session.id()); });
   start_hands();
   keep_motion_caught_up();
   if (options_.scenario) {
