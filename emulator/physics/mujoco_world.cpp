@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <set>
 #include <string>
@@ -65,10 +66,12 @@ std::optional<GeomType> geom_type(int type) {
 // A geom's colour as MuJoCo draws it: its material's, unless the geom sets its own rgba (which
 // then differs from the default, 0.5 0.5 0.5 1, and takes precedence).
 std::array<double, 4> rgba_of(const mjModel* model, int geom) {
-  const float* own = model->geom_rgba + 4 * geom;
+  const float* own = model->geom_rgba + 4 * static_cast<std::ptrdiff_t>(geom);
   const bool default_rgba = own[0] == 0.5F && own[1] == 0.5F && own[2] == 0.5F && own[3] == 1.0F;
   const int material = model->geom_matid[geom];
-  const float* rgba = material >= 0 && default_rgba ? model->mat_rgba + 4 * material : own;
+  const float* rgba = material >= 0 && default_rgba
+                          ? model->mat_rgba + 4 * static_cast<std::ptrdiff_t>(material)
+                          : own;
   return {rgba[0], rgba[1], rgba[2], rgba[3]};
 }
 
@@ -84,7 +87,7 @@ Box bounding_box(const mjModel* model, int mesh) {
   std::array<double, 3> low{};
   std::array<double, 3> high{};
   for (int v = 0; v < count; ++v) {
-    const float* vertex = model->mesh_vert + 3 * (first + v);
+    const float* vertex = model->mesh_vert + 3 * static_cast<std::ptrdiff_t>(first + v);
     for (std::size_t i = 0; i < 3; ++i) {
       const double x = vertex[i];
       low[i] = v == 0 ? x : std::min(low[i], x);
@@ -269,8 +272,8 @@ std::vector<GeomPose> MujocoWorld::geom_poses() {
   std::vector<GeomPose> out;
   out.reserve(drawn_.size());
   for (std::size_t i = 0; i < drawn_.size(); ++i) {
-    const mjtNum* pos = data_->geom_xpos + 3 * drawn_[i];
-    const mjtNum* mat = data_->geom_xmat + 9 * drawn_[i];
+    const mjtNum* pos = data_->geom_xpos + 3 * static_cast<std::ptrdiff_t>(drawn_[i]);
+    const mjtNum* mat = data_->geom_xmat + 9 * static_cast<std::ptrdiff_t>(drawn_[i]);
     GeomPose pose;
     for (std::size_t r = 0; r < 3; ++r) {
       pose.pos[r] = pos[r];

@@ -194,7 +194,7 @@ TEST_CASE("Closing a connection ends its sampler and its trace subscription", "[
   rig.on_five(kPosition + R"("period_ms":10})");
   rig.on_five(R"({"cmd":"trace.subscribe"})");
   std::vector<std::string> six_events;
-  const control::Connection six{6, [&](std::string line) { six_events.push_back(line); }};
+  const control::Connection six{6, [&](const std::string& line) { six_events.push_back(line); }};
   REQUIRE(json::parse(rig.api.handle(kPosition + R"("period_ms":10})", &six))["ok"] == true);
   rig.step_ms(5);
   rig.api.closed(5);
