@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include <variant>
 
 #include "control/clock_commands.hpp"
 #include "control/condition_commands.hpp"
@@ -15,6 +16,7 @@
 #include "control/port_commands.hpp"
 #include "control/reply.hpp"
 #include "control/request.hpp"
+#include "control/sample_commands.hpp"
 #include "control/scenario.hpp"
 #include "control/trace_commands.hpp"
 
@@ -40,11 +42,16 @@ ordered_json help(Target& /*target*/, const Args& /*args*/) {
 
 // --- the command table -----------------------------------------------------------------------
 
+/// A command that acts on the target alone.
+using TargetCommand = ordered_json (*)(Target& target, const Args& args);
+/// A command that keeps state between requests in the Api's samplers.
+using SamplerCommand = ordered_json (*)(Samplers& samplers, const Args& args);
+
 struct Command {
   std::string_view name;
   /// The arguments it takes besides "id" and "cmd"; any other is refused.
   std::vector<std::string_view> fields;
-  ordered_json (*run)(Target& target, const Args& args);
+  std::variant<TargetCommand, SamplerCommand> run;
 };
 
 const std::vector<Command>& commands() {
@@ -67,6 +74,8 @@ const std::vector<Command>& commands() {
       {"scenario.load", {"file", "scenario"}, scenario_load},
       {"trace.subscribe", {"port"}, trace_subscribe},
       {"trace.unsubscribe", {}, trace_unsubscribe},
+      {"sample.subscribe", {"items", "period_ms"}, sample_subscribe},
+      {"sample.unsubscribe", {}, sample_unsubscribe},
       {"hand", {"port"}, hand_state},
       {"hand.play",
        {"port", "file", "loop", "speed", "start_s", "interpolation", "force_limit_nm"},
@@ -80,6 +89,7 @@ const std::vector<Command>& commands() {
       {"hand.stop", {"port", "joints"}, hand_stop},
       {"physics", {"joint"}, physics_state},
       {"physics.apply", {"joint", "body", "torque_nm", "force_n"}, physics_apply},
+      {"physics.scene", {}, physics_scene},
       {"clock.now", {}, clock_now},
       {"clock.step", {"ms", "us", "ns"}, clock_step},
       {"stats", {"port"}, stats},
@@ -150,7 +160,12 @@ ordered_json parse(std::string_view line) {
 
 }  // namespace
 
-Api::Api(Target& target) : target_(target) {}
+Api::Api(Target& target) : target_(target), samplers_(target) {}
+
+void Api::closed(std::uint64_t connection) {
+  target_.unsubscribe_trace(connection);
+  samplers_.stop(connection);
+}
 
 std::vector<std::string> Api::command_names() {
   std::vector<std::string> names;
@@ -181,7 +196,10 @@ ordered_json Api::run(const ordered_json& request, const Connection* connection)
     }
     const Command& command = command_for(request);
     check_fields(request, command);
-    ordered_json result = command.run(target_, Args(request, command.name, connection));
+    const Args args(request, command.name, connection);
+    ordered_json result = std::holds_alternative<TargetCommand>(command.run)
+                              ? std::get<TargetCommand>(command.run)(target_, args)
+                              : std::get<SamplerCommand>(command.run)(samplers_, args);
     return ok_reply(id, std::move(result));
   } catch (const Refusal& e) {
     return error_reply(std::move(id), e.what());

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "control/connection.hpp"
+#include "control/samplers.hpp"
 #include "control/target.hpp"
 #include "sim/sim_time.hpp"
 
@@ -46,8 +47,14 @@ class Api {
   /// The command names, in the order `help` lists them.
   static std::vector<std::string> command_names();
 
+  /// Ends everything connection `connection` (its id) had: its trace subscription and its
+  /// sampler. The transports call it when a connection closes; no event reaches it afterwards.
+  void closed(std::uint64_t connection);
+
  private:
   Target& target_;
+  // What lasts between requests: each connection's sampler (sample.subscribe).
+  Samplers samplers_;
 };
 
 }  // namespace dxlemu::control

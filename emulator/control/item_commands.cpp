@@ -6,10 +6,6 @@
 #include "model/servo.hpp"
 
 namespace dxlemu::control {
-namespace {
-
-// The widest value get and set handle by address (the widest control-table item).
-constexpr std::int64_t kMaxValueBytes = 4;
 
 std::size_t item_named(const model::ModelSpec& spec, const std::string& key) {
   const auto index = spec.index_of(key);
@@ -18,6 +14,11 @@ std::size_t item_named(const model::ModelSpec& spec, const std::string& key) {
   }
   return *index;
 }
+
+namespace {
+
+// The widest value get and set handle by address (the widest control-table item).
+constexpr std::int64_t kMaxValueBytes = 4;
 
 struct ByteRange {
   std::int64_t address = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "physics/mjcf_world.hpp"
@@ -104,6 +105,35 @@ std::array<double, 3> vector_arg(const Args& args, const char* key) {
   return out;
 }
 
+std::string_view type_name(physics::GeomType type) {
+  switch (type) {
+    case physics::GeomType::Plane:
+      return "plane";
+    case physics::GeomType::Sphere:
+      return "sphere";
+    case physics::GeomType::Capsule:
+      return "capsule";
+    case physics::GeomType::Ellipsoid:
+      return "ellipsoid";
+    case physics::GeomType::Cylinder:
+      return "cylinder";
+    case physics::GeomType::Box:
+      return "box";
+    case physics::GeomType::Mesh:
+      return "mesh";
+  }
+  return "box";
+}
+
+template <std::size_t N>
+ordered_json numbers_json(const std::array<double, N>& values) {
+  ordered_json out = ordered_json::array();
+  for (const double v : values) {
+    out.push_back(v);
+  }
+  return out;
+}
+
 // Which of "joint" and "body" a physics.apply names, refusing neither or both.
 void check_target_of_apply(const Args& args) {
   if (args.has("joint") == args.has("body")) {
@@ -155,6 +185,29 @@ ordered_json physics_state(Target& target, const Args& args) {
           {"time_ms", static_cast<double>(view.clock.ticks()) * tick_ms},
           {"joints", joints},
           {"bodies", bodies}};
+}
+
+ordered_json physics_scene(Target& target, const Args& /*args*/) {
+  PhysicsView& view = view_of(target);
+  view.clock.advance_to(target.now());
+  physics::World& world = view.clock.world();
+  const physics::Scene scene = world.scene();
+  const std::vector<physics::GeomPose> poses = world.geom_poses();
+  ordered_json geoms = ordered_json::array();
+  for (std::size_t i = 0; i < scene.geoms.size() && i < poses.size(); ++i) {
+    const physics::GeomShape& shape = scene.geoms[i];
+    geoms.push_back({{"name", shape.name},
+                     {"body", shape.body},
+                     {"type", type_name(shape.type)},
+                     {"size", numbers_json(shape.size)},
+                     {"rgba", numbers_json(shape.rgba)},
+                     {"pos", numbers_json(poses[i].pos)},
+                     {"mat", numbers_json(poses[i].mat)}});
+    if (shape.type == physics::GeomType::Mesh) {
+      geoms.back()["mesh"] = shape.mesh;
+    }
+  }
+  return {{"geoms", std::move(geoms)}, {"notes", scene.notes}};
 }
 
 ordered_json physics_apply(Target& target, const Args& args) {

@@ -2,7 +2,11 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <array>
+#include <cstddef>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +36,72 @@ bool one_dof(int type) {
   return type == mjJNT_HINGE || type == mjJNT_SLIDE;
 }
 
+std::string name_of(const mjModel* model, mjtObj type, int id) {
+  const char* name = mj_id2name(model, type, id);
+  return name == nullptr ? std::string() : std::string(name);
+}
+
+// The drawable geom types by MuJoCo's mjtGeom; nullopt for a height field and anything newer.
+std::optional<GeomType> geom_type(int type) {
+  switch (type) {
+    case mjGEOM_PLANE:
+      return GeomType::Plane;
+    case mjGEOM_SPHERE:
+      return GeomType::Sphere;
+    case mjGEOM_CAPSULE:
+      return GeomType::Capsule;
+    case mjGEOM_ELLIPSOID:
+      return GeomType::Ellipsoid;
+    case mjGEOM_CYLINDER:
+      return GeomType::Cylinder;
+    case mjGEOM_BOX:
+      return GeomType::Box;
+    case mjGEOM_MESH:
+      return GeomType::Mesh;
+    default:
+      return std::nullopt;
+  }
+}
+
+// A geom's colour as MuJoCo draws it: its material's, unless the geom sets its own rgba (which
+// then differs from the default, 0.5 0.5 0.5 1, and takes precedence).
+std::array<double, 4> rgba_of(const mjModel* model, int geom) {
+  const float* own = model->geom_rgba + 4 * static_cast<std::ptrdiff_t>(geom);
+  const bool default_rgba = own[0] == 0.5F && own[1] == 0.5F && own[2] == 0.5F && own[3] == 1.0F;
+  const int material = model->geom_matid[geom];
+  const float* rgba = material >= 0 && default_rgba
+                          ? model->mat_rgba + 4 * static_cast<std::ptrdiff_t>(material)
+                          : own;
+  return {rgba[0], rgba[1], rgba[2], rgba[3]};
+}
+
+// Half-extents and centre, in the mesh's frame (the geom's), of mesh `mesh`'s bounding box.
+struct Box {
+  std::array<double, 3> half{};
+  std::array<double, 3> centre{};
+};
+
+Box bounding_box(const mjModel* model, int mesh) {
+  const int first = model->mesh_vertadr[mesh];
+  const int count = model->mesh_vertnum[mesh];
+  std::array<double, 3> low{};
+  std::array<double, 3> high{};
+  for (int v = 0; v < count; ++v) {
+    const float* vertex = model->mesh_vert + 3 * static_cast<std::ptrdiff_t>(first + v);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const double x = vertex[i];
+      low[i] = v == 0 ? x : std::min(low[i], x);
+      high[i] = v == 0 ? x : std::max(high[i], x);
+    }
+  }
+  Box box;
+  for (std::size_t i = 0; i < 3; ++i) {
+    box.half[i] = (high[i] - low[i]) / 2;
+    box.centre[i] = (high[i] + low[i]) / 2;
+  }
+  return box;
+}
+
 }  // namespace
 
 MujocoWorld::MujocoWorld(const std::filesystem::path& file, double timestep_s) {
@@ -51,6 +121,43 @@ MujocoWorld::MujocoWorld(const std::filesystem::path& file, double timestep_s) {
   external_.assign(static_cast<std::size_t>(model_->nv), 0.0);
   // Positions and velocities of the initial state, before the first step.
   mj_forward(model_, data_);
+  describe_geoms();
+}
+
+void MujocoWorld::describe_geoms() {
+  std::set<std::string> boxed;  // meshes noted as drawn as boxes
+  for (int g = 0; g < model_->ngeom; ++g) {
+    const auto type = geom_type(model_->geom_type[g]);
+    std::string name = name_of(model_, mjOBJ_GEOM, g);
+    if (!type) {
+      scene_.notes.push_back("geom " + (name.empty() ? "#" + std::to_string(g) : '"' + name + '"') +
+                             " left out: a height field is not drawn");
+      continue;
+    }
+    GeomShape shape;
+    shape.name = std::move(name);
+    shape.body = name_of(model_, mjOBJ_BODY, model_->geom_bodyid[g]);
+    shape.type = *type;
+    shape.rgba = rgba_of(model_, g);
+    std::array<double, 3> centre{};
+    if (*type == GeomType::Mesh) {
+      const int mesh = model_->geom_dataid[g];
+      const Box box = bounding_box(model_, mesh);
+      shape.size = box.half;
+      centre = box.centre;
+      shape.mesh = name_of(model_, mjOBJ_MESH, mesh);
+      if (boxed.insert(shape.mesh).second) {
+        scene_.notes.push_back("mesh \"" + shape.mesh + "\" drawn as its bounding box");
+      }
+    } else {
+      for (std::size_t i = 0; i < 3; ++i) {
+        shape.size[i] = model_->geom_size[3 * g + static_cast<int>(i)];
+      }
+    }
+    scene_.geoms.push_back(std::move(shape));
+    drawn_.push_back(g);
+    centre_.push_back(centre);
+  }
 }
 
 MujocoWorld::~MujocoWorld() {
@@ -156,6 +263,28 @@ JointForces MujocoWorld::forces(std::size_t joint) const {
   // mj_step leaves the forces of the state it integrated from: those of the last step.
   const auto dof = static_cast<std::size_t>(model_->jnt_dofadr[joint]);
   return {actuator_[dof], external_[dof], data_->qfrc_constraint[dof], data_->qfrc_bias[dof]};
+}
+
+std::vector<GeomPose> MujocoWorld::geom_poses() {
+  // mj_step leaves the poses of the state it integrated from, a step behind qpos: the
+  // kinematics of the state now. Deterministic: the next mj_step recomputes them from qpos.
+  mj_kinematics(model_, data_);
+  std::vector<GeomPose> out;
+  out.reserve(drawn_.size());
+  for (std::size_t i = 0; i < drawn_.size(); ++i) {
+    const mjtNum* pos = data_->geom_xpos + 3 * static_cast<std::ptrdiff_t>(drawn_[i]);
+    const mjtNum* mat = data_->geom_xmat + 9 * static_cast<std::ptrdiff_t>(drawn_[i]);
+    GeomPose pose;
+    for (std::size_t r = 0; r < 3; ++r) {
+      pose.pos[r] = pos[r];
+      for (std::size_t c = 0; c < 3; ++c) {
+        pose.mat[3 * r + c] = mat[3 * r + c];
+        pose.pos[r] += mat[3 * r + c] * centre_[i][c];
+      }
+    }
+    out.push_back(pose);
+  }
+  return out;
 }
 
 }  // namespace dxlemu::physics

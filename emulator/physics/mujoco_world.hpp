@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -42,8 +43,12 @@ class MujocoWorld : public World {
   void step() override;
   JointState joint(std::size_t joint) const override;
   JointForces forces(std::size_t joint) const override;
+  Scene scene() const override { return scene_; }
+  std::vector<GeomPose> geom_poses() override;
 
  private:
+  // scene_ and what geom_poses() needs, from the model's geoms.
+  void describe_geoms();
   // qfrc_applied of a degree of freedom: the actuator's torque plus the external one.
   void apply(std::size_t dof);
 
@@ -52,6 +57,11 @@ class MujocoWorld : public World {
   // Per degree of freedom, the two parts of qfrc_applied.
   std::vector<double> actuator_;
   std::vector<double> external_;
+  // The geoms drawn: scene_.geoms[i] is MuJoCo's geom drawn_[i], whose drawn shape's centre is
+  // centre_[i] in the geom's frame (not zero for a mesh: its bounding box is off its origin).
+  Scene scene_;
+  std::vector<int> drawn_;
+  std::vector<std::array<double, 3>> centre_;
 };
 
 }  // namespace dxlemu::physics

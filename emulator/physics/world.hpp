@@ -29,6 +29,35 @@ struct Wrench {
   std::array<double, 3> torque{};
 };
 
+/// The shapes a world's geoms have, as drawn (docs/control-api.md "physics.scene").
+enum class GeomType { Plane, Sphere, Capsule, Ellipsoid, Cylinder, Box, Mesh };
+
+/// One geom of the world as it is drawn: what never changes while the world runs.
+struct GeomShape {
+  std::string name;  ///< "" when the model names none
+  std::string body;  ///< the body it belongs to ("" when unnamed)
+  GeomType type = GeomType::Box;
+  /// MuJoCo's geom_size: sphere [r], capsule and cylinder [r, half-length] (along the local z
+  /// axis), ellipsoid and box the half-extents, plane [hx, hy, grid spacing] (0: infinite); a
+  /// mesh the half-extents of its bounding box, which is what is drawn.
+  std::array<double, 3> size{};
+  std::array<double, 4> rgba{};  ///< its colour (its material's when it has one)
+  std::string mesh;              ///< the mesh's name, for a mesh ("" when unnamed)
+};
+
+/// Where a drawn geom is: the centre of its shape and its rotation, world frame.
+struct GeomPose {
+  std::array<double, 3> pos{};
+  std::array<double, 9> mat{};  ///< rotation, row-major: local axes are its columns
+};
+
+/// What a world's geoms look like: everything drawable, and why anything was drawn otherwise or
+/// left out.
+struct Scene {
+  std::vector<GeomShape> geoms;
+  std::vector<std::string> notes;  ///< e.g. "mesh \"base\" drawn as its bounding box"
+};
+
 /// A rigid-body world with joints that actuators push on: the seam between the servos and a
 /// physics engine. It knows no servo, protocol or clock: the caller says when to step. Units are
 /// SI (rad, rad/s, N·m, kg·m², s). Implementations must be deterministic: the same calls give the
@@ -64,6 +93,12 @@ class World {
   virtual JointState joint(std::size_t joint) const = 0;
   /// The forces on `joint` in the last step (zero before the first).
   virtual JointForces forces(std::size_t joint) const = 0;
+  /// The geoms to draw (fixed for the world's life), and notes on those it could not draw as
+  /// they are.
+  virtual Scene scene() const = 0;
+  /// The pose of each of scene()'s geoms in the current state, in scene()'s order. Not const:
+  /// an engine may have to compute its kinematics for the state now.
+  virtual std::vector<GeomPose> geom_poses() = 0;
 };
 
 }  // namespace dxlemu::physics

@@ -211,10 +211,26 @@ class Control:
         """Stops this connection's trace events."""
         self.call("trace.unsubscribe")
 
+    def sample_subscribe(self, items: list[dict], period_ms: float) -> dict:
+        """From now on this connection receives the values of `items` (up to 10
+        {"port"?, "servo", "item"}) every `period_ms` (1 ~ 1000) of simulated time as
+        {"event": "sample", "t": s, "values": [...]} lines, read with `events()`; replaces an
+        earlier sampler."""
+        return self.call("sample.subscribe", items=items, period_ms=period_ms)
+
+    def sample_unsubscribe(self) -> bool:
+        """Stops this connection's sample events; False when it had none."""
+        return self.call("sample.unsubscribe")["stopped"]
+
     def physics(self, joint: str | None = None) -> dict:
         """The physics world now: its joints (position, velocity, the forces on each, the servo
         driving it) and the bodies pushed; with `joint`, that joint's entry alone."""
         return self.call("physics", **_without_none(joint=joint))
+
+    def physics_scene(self) -> dict:
+        """The world's geoms for drawing: each one's shape, size, colour and world pose now
+        ({"geoms": [...], "notes": [...]})."""
+        return self.call("physics.scene")
 
     def physics_apply(self, *, joint: str | None = None, body: str | None = None,
                       torque_nm: float | list[float] | None = None,

@@ -57,6 +57,8 @@ def test_physics_methods_reach_the_daemon_which_says_it_has_no_world(dxlemu):
         dxlemu.control.physics()
     with pytest.raises(ControlError, match="physics.apply: this daemon simulates no physics"):
         dxlemu.control.physics_apply(joint="shoulder", torque_nm=0.5)
+    with pytest.raises(ControlError, match="physics.scene: this daemon simulates no physics"):
+        dxlemu.control.physics_scene()
 
 
 def test_no_events_without_a_subscription(dxlemu):
@@ -77,6 +79,26 @@ def test_trace_events_are_kept_apart_from_replies(dxlemu):
     assert [(event["event"], event["dir"], event.get("packet")) for event in events] == [
         ("trace", "in", "id=1 ping"), ("trace", "out", "id=1 error=0x00 params=FC 03 2D")]
     control.trace_unsubscribe()
+
+
+def test_sample_events_come_every_period_of_simulated_time(dxlemu):
+    control = dxlemu.control
+    control.set(2, "return_delay_time", 60)
+    result = control.sample_subscribe(
+        [{"servo": 1, "item": "id"}, {"servo": 2, "item": "return_delay_time"}], period_ms=10)
+    assert result == {"items": [{"port": "dxl0", "servo": 1, "item": "id"},
+                                {"port": "dxl0", "servo": 2, "item": "return_delay_time"}],
+                      "period_ms": 10}
+    control.clock_step(ms=25)
+    assert control.events() == [{"event": "sample", "t": 0.01, "values": [1, 60]},
+                                {"event": "sample", "t": 0.02, "values": [1, 60]}]
+    assert control.sample_unsubscribe() is True
+    control.clock_step(ms=25)
+    assert control.get(1, "id") == 1  # events due would have come before this reply
+    assert control.events() == []
+    assert control.sample_unsubscribe() is False
+    with pytest.raises(ControlError, match="must hold 1 ~ 10 items"):
+        control.sample_subscribe([], period_ms=10)
 
 
 def test_hand_methods_move_a_joint_and_report_it(dxlemu):

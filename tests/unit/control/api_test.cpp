@@ -247,10 +247,12 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.target.shutdown_requested);
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
         R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
-        R"("servo.attach","servo.power_cycle","servo.reboot","servo.factory_reset","fault.add","fault.list","fault.remove",)"
-        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","hand",)"
+        R"("servo.attach","servo.power_cycle","servo.reboot","servo.factory_reset",)"
+        R"("fault.add","fault.list","fault.remove",)"
+        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe",)"
+        R"("sample.subscribe","sample.unsubscribe","hand",)"
         R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
-        R"("physics.apply","clock.now","clock.step","stats","shutdown","help"]})");
+        R"("physics.apply","physics.scene","clock.now","clock.step","stats","shutdown","help"]})");
 }
 
 TEST_CASE("The port may be left out when there is only one", "[control]") {
@@ -311,8 +313,9 @@ TEST_CASE("A request without a known cmd is refused naming the commands", "[cont
       "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
       "servo.reboot, servo.factory_reset, "
       "fault.add, fault.list, fault.remove, fault.clear, scenario.load, trace.subscribe, "
-      "trace.unsubscribe, hand, hand.play, hand.sweep, hand.move, hand.stop, physics, "
-      "physics.apply, clock.now, clock.step, stats, shutdown, help)";
+      "trace.unsubscribe, sample.subscribe, sample.unsubscribe, hand, hand.play, hand.sweep, "
+      "hand.move, hand.stop, physics, physics.apply, physics.scene, clock.now, clock.step, stats, "
+      "shutdown, help)";
   CHECK(rig.error(R"({"id":1})") == "\"cmd\" is required " + commands);
   CHECK(rig.error(R"({"id":1,"cmd":3})") == R"("cmd" must be a string)");
   CHECK(rig.error(R"({"id":1,"cmd":"gett"})") == "unknown command \"gett\" " + commands);
@@ -691,13 +694,15 @@ TEST_CASE("A bad scenario is refused naming the step and the reason, and nothing
   CHECK(rig.dxl0.bus.attached(rig.xm1));
 }
 
-TEST_CASE("physics and physics.apply are refused when the daemon simulates no physics",
-          "[control][physics]") {
+TEST_CASE(
+    "physics, physics.apply and physics.scene are refused when the daemon simulates no physics",
+    "[control][physics]") {
   Rig rig;
   const std::string why =
       "this daemon simulates no physics: its config has no \"physics\" (docs/physics.md)";
   CHECK(rig.error(R"({"cmd":"physics"})") == why);
   CHECK(rig.error(R"({"cmd":"physics.apply","joint":"shoulder","torque_nm":1})") == why);
+  CHECK(rig.error(R"({"cmd":"physics.scene"})") == why);
   // A scenario step is checked the same way before it is scheduled.
   CHECK(control::Api::check(rig.target, json::parse(R"({"cmd":"physics"})")) == why);
   CHECK(rig.error(R"({"cmd":"physics","body":"link"})") ==

@@ -173,3 +173,34 @@ TEST_CASE("A scenario step pushes the world at its time", "[physics][mujoco][con
                   R"({"at_ms":0,"cmd":"physics.apply","joint":"elbow","torque_nm":1}]}})") ==
         "scenario/steps/0: the world has no hinge or slide joint \"elbow\" (its joints: shoulder)");
 }
+
+TEST_CASE("physics.scene gives each geom's shape and its pose now", "[physics][mujoco][control]") {
+  Rig rig;
+  const json level = rig.result(R"({"cmd":"physics.scene"})");
+  CHECK(level["notes"] == json::array());
+  REQUIRE(level["geoms"].size() == 2);
+  const json& rod = level["geoms"][0];
+  CHECK(rod["name"] == "");
+  CHECK(rod["body"] == "link");
+  CHECK(rod["type"] == "capsule");
+  CHECK(rod["size"][0].get<double>() == Approx(0.005));
+  CHECK(rod["size"][1].get<double>() == Approx(0.05));
+  CHECK(rod["rgba"] == json::parse("[0.5, 0.5, 0.5, 1.0]"));
+  CHECK(rod["pos"][0].get<double>() == Approx(0.05));
+  CHECK(rod["mat"].size() == 9);
+  CHECK(level["geoms"][1]["type"] == "sphere");
+  CHECK(level["geoms"][1]["pos"][0].get<double>() == Approx(0.1));
+  // Torque off, the link falls onto its +60° stop: the mass turns down towards -z.
+  rig.wait_ms(1000);
+  const json fallen = rig.result(R"({"cmd":"physics.scene"})");
+  const json& mass = fallen["geoms"][1]["pos"];
+  CHECK(mass[0].get<double>() == Approx(0.1 * std::cos(kStopRad)).margin(0.002));
+  CHECK(mass[1].get<double>() == Approx(0).margin(1e-9));
+  CHECK(mass[2].get<double>() == Approx(-0.1 * std::sin(kStopRad)).margin(0.002));
+  // Exactly where the joint is now.
+  const double q = rig.result(R"({"cmd":"physics","joint":"shoulder"})")["position_rad"];
+  CHECK(mass[0].get<double>() == Approx(0.1 * std::cos(q)).epsilon(1e-9));
+  CHECK(mass[2].get<double>() == Approx(-0.1 * std::sin(q)).epsilon(1e-9));
+  CHECK(rig.error(R"({"cmd":"physics.scene","joint":"shoulder"})") ==
+        "unknown field \"joint\" for physics.scene (it takes no arguments)");
+}

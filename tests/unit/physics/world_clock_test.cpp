@@ -45,6 +45,8 @@ class LogWorld : public physics::World {
   }
   physics::JointState joint(std::size_t /*joint*/) const override { return {position_, velocity_}; }
   physics::JointForces forces(std::size_t /*joint*/) const override { return {torque_, 0, 0, 0}; }
+  physics::Scene scene() const override { return {}; }
+  std::vector<physics::GeomPose> geom_poses() override { return {}; }
 
  private:
   std::vector<std::string>& log_;
