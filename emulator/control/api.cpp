@@ -16,6 +16,7 @@
 #include "control/reply.hpp"
 #include "control/request.hpp"
 #include "control/scenario.hpp"
+#include "control/table_command.hpp"
 #include "control/trace_commands.hpp"
 
 namespace dxlemu::control {
@@ -40,49 +41,69 @@ ordered_json help(Target& /*target*/, const Args& /*args*/) {
 
 // --- the command table -----------------------------------------------------------------------
 
+/// Whether a command changes anything (the bus, a servo, the world, faults, the clock, the
+/// daemon) or only looks. A read-only connection may run only the looking ones.
+enum class Effect { Looks, Changes };
+
+// Refused on a read-only connection, to every command that changes anything.
+constexpr std::string_view kReadOnly =
+    "read-only: this connection may only look (dxlemu run --web-read-only)";
+
 struct Command {
   std::string_view name;
+  /// Deliberately second and without a default: a new row must say what it does.
+  Effect effect;
   /// The arguments it takes besides "id" and "cmd"; any other is refused.
   std::vector<std::string_view> fields;
   ordered_json (*run)(Target& target, const Args& args);
 };
 
+constexpr Effect kLooks = Effect::Looks;
+constexpr Effect kChanges = Effect::Changes;
+
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
-      {"list", {}, list},
-      {"get", {"port", "servo", "item", "address", "size"}, get},
-      {"set", {"port", "servo", "item", "address", "size", "value"}, set},
+      {"list", kLooks, {}, list},
+      {"get", kLooks, {"port", "servo", "item", "address", "size"}, get},
+      {"table", kLooks, {"port", "servo"}, servo_table},
+      {"set", kChanges, {"port", "servo", "item", "address", "size", "value"}, set},
       {"condition.set",
+       kChanges,
        {"port", "servo", "ambient_temperature", "supply_voltage", "external_load", "blocked"},
        condition_set},
-      {"servo.detach", {"port", "servo"}, servo_detach},
-      {"servo.attach", {"port", "servo"}, servo_attach},
-      {"servo.power_cycle", {"port", "servo"}, servo_power_cycle},
-      {"fault.add", {"rule"}, fault_add},
-      {"fault.list", {}, fault_list},
-      {"fault.remove", {"rule"}, fault_remove},
-      {"fault.clear", {}, fault_clear},
-      {"scenario.load", {"file", "scenario"}, scenario_load},
-      {"trace.subscribe", {"port"}, trace_subscribe},
-      {"trace.unsubscribe", {}, trace_unsubscribe},
-      {"hand", {"port"}, hand_state},
+      {"servo.detach", kChanges, {"port", "servo"}, servo_detach},
+      {"servo.attach", kChanges, {"port", "servo"}, servo_attach},
+      {"servo.power_cycle", kChanges, {"port", "servo"}, servo_power_cycle},
+      {"fault.add", kChanges, {"rule"}, fault_add},
+      {"fault.list", kLooks, {}, fault_list},
+      {"fault.remove", kChanges, {"rule"}, fault_remove},
+      {"fault.clear", kChanges, {}, fault_clear},
+      {"scenario.load", kChanges, {"file", "scenario"}, scenario_load},
+      {"scenario.list", kLooks, {}, scenario_list},
+      // A subscription changes only what this connection is sent.
+      {"trace.subscribe", kLooks, {"port"}, trace_subscribe},
+      {"trace.unsubscribe", kLooks, {}, trace_unsubscribe},
+      {"hand", kLooks, {"port"}, hand_state},
       {"hand.play",
+       kChanges,
        {"port", "file", "loop", "speed", "start_s", "interpolation", "force_limit_nm"},
        hand_play},
       {"hand.sweep",
+       kChanges,
        {"port", "joints", "order", "speed_deg_s", "to", "force_limit_nm"},
        hand_sweep},
       {"hand.move",
+       kChanges,
        {"port", "joint", "position", "units", "duration_s", "force_limit_nm"},
        hand_move},
-      {"hand.stop", {"port", "joints"}, hand_stop},
-      {"physics", {"joint"}, physics_state},
-      {"physics.apply", {"joint", "body", "torque_nm", "force_n"}, physics_apply},
-      {"clock.now", {}, clock_now},
-      {"clock.step", {"ms", "us", "ns"}, clock_step},
-      {"stats", {"port"}, stats},
-      {"shutdown", {}, shutdown},
-      {"help", {}, help},
+      {"hand.stop", kChanges, {"port", "joints"}, hand_stop},
+      {"physics", kLooks, {"joint"}, physics_state},
+      {"physics.apply", kChanges, {"joint", "body", "torque_nm", "force_n"}, physics_apply},
+      {"clock.now", kLooks, {}, clock_now},
+      {"clock.step", kChanges, {"ms", "us", "ns"}, clock_step},
+      {"stats", kLooks, {"port"}, stats},
+      {"shutdown", kChanges, {}, shutdown},
+      {"help", kLooks, {}, help},
   };
   return table;
 }
@@ -178,6 +199,9 @@ ordered_json Api::run(const ordered_json& request, const Connection* connection)
       id = *given;
     }
     const Command& command = command_for(request);
+    if (command.effect != Effect::Looks && connection != nullptr && connection->read_only) {
+      refuse(std::string(kReadOnly));
+    }
     check_fields(request, command);
     ordered_json result = command.run(target_, Args(request, command.name, connection));
     return ok_reply(id, std::move(result));
