@@ -18,6 +18,7 @@
 #include "control/request.hpp"
 #include "control/sample_commands.hpp"
 #include "control/scenario.hpp"
+#include "control/table_command.hpp"
 #include "control/trace_commands.hpp"
 
 namespace dxlemu::control {
@@ -47,54 +48,74 @@ using TargetCommand = ordered_json (*)(Target& target, const Args& args);
 /// A command that keeps state between requests in the Api's samplers.
 using SamplerCommand = ordered_json (*)(Samplers& samplers, const Args& args);
 
+/// Whether a command changes anything (the bus, a servo, the world, faults, the clock, the
+/// daemon) or only looks. A read-only connection may run only the looking ones.
+enum class Effect { Looks, Changes };
+
+// Refused on a read-only connection, to every command that changes anything.
+constexpr std::string_view kReadOnly =
+    "read-only: this connection may only look (dxlemu run --web-read-only)";
+
 struct Command {
   std::string_view name;
+  /// Deliberately second and without a default: a new row must say what it does.
+  Effect effect;
   /// The arguments it takes besides "id" and "cmd"; any other is refused.
   std::vector<std::string_view> fields;
   std::variant<TargetCommand, SamplerCommand> run;
 };
 
+constexpr Effect kLooks = Effect::Looks;
+constexpr Effect kChanges = Effect::Changes;
+
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
-      {"list", {}, list},
-      {"get", {"port", "servo", "item", "address", "size"}, get},
-      {"set", {"port", "servo", "item", "address", "size", "value"}, set},
+      {"list", kLooks, {}, list},
+      {"get", kLooks, {"port", "servo", "item", "address", "size"}, get},
+      {"table", kLooks, {"port", "servo"}, servo_table},
+      {"set", kChanges, {"port", "servo", "item", "address", "size", "value"}, set},
       {"condition.set",
+       kChanges,
        {"port", "servo", "ambient_temperature", "supply_voltage", "external_load", "blocked"},
        condition_set},
-      {"servo.detach", {"port", "servo"}, servo_detach},
-      {"servo.attach", {"port", "servo"}, servo_attach},
-      {"servo.power_cycle", {"port", "servo"}, servo_power_cycle},
-      {"servo.reboot", {"port", "servo"}, servo_reboot},
-      {"servo.factory_reset", {"port", "servo", "keep"}, servo_factory_reset},
-      {"fault.add", {"rule"}, fault_add},
-      {"fault.list", {}, fault_list},
-      {"fault.remove", {"rule"}, fault_remove},
-      {"fault.clear", {}, fault_clear},
-      {"scenario.load", {"file", "scenario"}, scenario_load},
-      {"trace.subscribe", {"port"}, trace_subscribe},
-      {"trace.unsubscribe", {}, trace_unsubscribe},
-      {"sample.subscribe", {"items", "period_ms"}, sample_subscribe},
-      {"sample.unsubscribe", {}, sample_unsubscribe},
-      {"hand", {"port"}, hand_state},
+      {"servo.detach", kChanges, {"port", "servo"}, servo_detach},
+      {"servo.attach", kChanges, {"port", "servo"}, servo_attach},
+      {"servo.power_cycle", kChanges, {"port", "servo"}, servo_power_cycle},
+      {"servo.reboot", kChanges, {"port", "servo"}, servo_reboot},
+      {"servo.factory_reset", kChanges, {"port", "servo", "keep"}, servo_factory_reset},
+      {"fault.add", kChanges, {"rule"}, fault_add},
+      {"fault.list", kLooks, {}, fault_list},
+      {"fault.remove", kChanges, {"rule"}, fault_remove},
+      {"fault.clear", kChanges, {}, fault_clear},
+      {"scenario.load", kChanges, {"file", "scenario"}, scenario_load},
+      {"scenario.list", kLooks, {}, scenario_list},
+      // A subscription changes only what this connection is sent.
+      {"trace.subscribe", kLooks, {"port"}, trace_subscribe},
+      {"trace.unsubscribe", kLooks, {}, trace_unsubscribe},
+      {"sample.subscribe", kLooks, {"items", "period_ms"}, sample_subscribe},
+      {"sample.unsubscribe", kLooks, {}, sample_unsubscribe},
+      {"hand", kLooks, {"port"}, hand_state},
       {"hand.play",
+       kChanges,
        {"port", "file", "loop", "speed", "start_s", "interpolation", "force_limit_nm"},
        hand_play},
       {"hand.sweep",
+       kChanges,
        {"port", "joints", "order", "speed_deg_s", "to", "force_limit_nm"},
        hand_sweep},
       {"hand.move",
+       kChanges,
        {"port", "joint", "position", "units", "duration_s", "force_limit_nm"},
        hand_move},
-      {"hand.stop", {"port", "joints"}, hand_stop},
-      {"physics", {"joint"}, physics_state},
-      {"physics.apply", {"joint", "body", "torque_nm", "force_n"}, physics_apply},
-      {"physics.scene", {}, physics_scene},
-      {"clock.now", {}, clock_now},
-      {"clock.step", {"ms", "us", "ns"}, clock_step},
-      {"stats", {"port"}, stats},
-      {"shutdown", {}, shutdown},
-      {"help", {}, help},
+      {"hand.stop", kChanges, {"port", "joints"}, hand_stop},
+      {"physics", kLooks, {"joint"}, physics_state},
+      {"physics.apply", kChanges, {"joint", "body", "torque_nm", "force_n"}, physics_apply},
+      {"physics.scene", kLooks, {}, physics_scene},
+      {"clock.now", kLooks, {}, clock_now},
+      {"clock.step", kChanges, {"ms", "us", "ns"}, clock_step},
+      {"stats", kLooks, {"port"}, stats},
+      {"shutdown", kChanges, {}, shutdown},
+      {"help", kLooks, {}, help},
   };
   return table;
 }
@@ -195,6 +216,9 @@ ordered_json Api::run(const ordered_json& request, const Connection* connection)
       id = *given;
     }
     const Command& command = command_for(request);
+    if (command.effect != Effect::Looks && connection != nullptr && connection->read_only) {
+      refuse(std::string(kReadOnly));
+    }
     check_fields(request, command);
     const Args args(request, command.name, connection);
     ordered_json result = std::holds_alternative<TargetCommand>(command.run)

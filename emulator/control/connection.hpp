@@ -15,6 +15,9 @@ struct Connection {
   std::uint64_t id = 0;
   /// Queues one event line (JSON, without its newline) for the client.
   std::function<void(std::string line)> send;
+  /// The client may only look: every command that changes anything is refused
+  /// (`dxlemu run --web-read-only`).
+  bool read_only = false;
 };
 
 }  // namespace dxlemu::control

@@ -29,14 +29,6 @@ constexpr std::array<SummaryItem, 8> kSummaryItems = {{
     {"moving", {"moving", "moving_flag"}, true},
 }};
 
-// DYNAMIXEL's protocols by number (1, 2), FEETECH's by name ("feetech"), as traces write them.
-ordered_json protocol_json(wire::Protocol protocol) {
-  if (const int number = wire::protocol_number(protocol); number != 0) {
-    return number;
-  }
-  return wire::protocol_name(protocol);
-}
-
 ordered_json servo_summary(const model::Servo& servo) {
   const auto protocol = servo.protocol();
   ordered_json out = {
@@ -81,6 +73,22 @@ ordered_json lateness_json(const bus::LatenessSummary& s) {
           {"drop_after_ms", static_cast<double>(s.drop_after.count()) / 1e6}};
 }
 
+/// Servo ID → item key → how many times a bus instruction wrote that EEPROM item, for the items
+/// written at least once. Servos sharing an ID share an entry: their counts add up.
+ordered_json eeprom_writes_json(const PortView& view) {
+  ordered_json out = ordered_json::object();
+  for (const model::Servo* servo : view.servos()) {
+    const model::ModelSpec& spec = servo->spec();
+    for (std::size_t i = 0; i < spec.items.size(); ++i) {
+      if (const std::uint64_t writes = servo->eeprom_writes(i); writes != 0) {
+        ordered_json& count = out[std::to_string(servo->id())][spec.items[i].key];
+        count = (count.is_null() ? 0 : count.get<std::uint64_t>()) + writes;
+      }
+    }
+  }
+  return out;
+}
+
 ordered_json stats_json(const PortView& view) {
   const bus::BusStats s = view.stats();
   ordered_json out = {
@@ -93,6 +101,7 @@ ordered_json stats_json(const PortView& view) {
   if (const auto lateness = view.lateness()) {
     out["lateness"] = lateness_json(*lateness);
   }
+  out["eeprom_writes"] = eeprom_writes_json(view);
   return out;
 }
 
@@ -137,6 +146,13 @@ ordered_json attached_json(const Plugged& p) {
 }
 
 }  // namespace
+
+ordered_json protocol_json(wire::Protocol protocol) {
+  if (const int number = wire::protocol_number(protocol); number != 0) {
+    return number;
+  }
+  return wire::protocol_name(protocol);
+}
 
 ordered_json list(Target& target, const Args& /*args*/) {
   ordered_json ports = ordered_json::array();

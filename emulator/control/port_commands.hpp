@@ -7,6 +7,10 @@
 // the Reboot and Factory Reset a tool sends (docs/control-api.md).
 namespace dxlemu::control {
 
+/// A servo's protocol as list and table show it: DYNAMIXEL's by number (1, 2), FEETECH's by name
+/// ("feetech"), as traces write them.
+ordered_json protocol_json(wire::Protocol protocol);
+
 /// list: every port with its facts and the key state of each servo.
 ordered_json list(Target& target, const Args& args);
 /// stats {"port"}: the counters of one port, or of every port.

@@ -83,8 +83,8 @@ std::vector<ScenarioStep> parse_scenario(const nlohmann::ordered_json& scenario)
   return out;
 }
 
-std::size_t schedule_scenario(Target& target, const nlohmann::ordered_json& scenario,
-                              const std::string& origin) {
+ScheduledScenario schedule_scenario(Target& target, const nlohmann::ordered_json& scenario,
+                                    const std::string& origin) {
   std::vector<ScenarioStep> steps = parse_scenario(scenario);
   // Every step is checked before any is scheduled: a scenario runs whole or not at all.
   for (const ScenarioStep& step : steps) {
@@ -92,16 +92,24 @@ std::size_t schedule_scenario(Target& target, const nlohmann::ordered_json& scen
       throw ScenarioError(step.pointer, *problem);
     }
   }
-  for (ScenarioStep& step : steps) {
-    target.schedule_in(
-        step.at, [&target, request = std::move(step.request), where = origin + " " + step.pointer] {
-          const nlohmann::ordered_json reply = Api(target).run(request);
-          if (!reply.value("ok", false)) {
-            target.warn("scenario " + where + ": " + reply.value("error", std::string("failed")));
-          }
-        });
+  std::vector<sim::SimDuration> times;
+  times.reserve(steps.size());
+  for (const ScenarioStep& step : steps) {
+    times.push_back(step.at);
   }
-  return steps.size();
+  const std::size_t number = target.scenarios().add(origin, target.now(), std::move(times));
+  for (ScenarioStep& step : steps) {
+    target.schedule_in(step.at, [&target, number, request = std::move(step.request),
+                                 where = origin + " " + step.pointer] {
+      const nlohmann::ordered_json reply = Api(target).run(request);
+      const bool ok = reply.value("ok", false);
+      target.scenarios().step_ran(number, ok);
+      if (!ok) {
+        target.warn("scenario " + where + ": " + reply.value("error", std::string("failed")));
+      }
+    });
+  }
+  return {number, steps.size()};
 }
 
 nlohmann::ordered_json load_scenario_file(const std::filesystem::path& path) {
@@ -136,13 +144,31 @@ ordered_json scenario_load(Target& target, const Args& args) {
         throw ScenarioError("", "is not a regular file");
       }
     }
-    const std::size_t steps = schedule_scenario(
+    const ScheduledScenario scheduled = schedule_scenario(
         target, file ? load_scenario_file(origin) : *args.value("scenario"), origin);
-    return {{"steps", steps}};
+    return {{"steps", scheduled.steps}, {"scenario", scheduled.number}};
   } catch (const ScenarioError& e) {
     refuse((file ? origin + ": " : std::string("scenario")) + e.pointer() +
            (file && e.pointer().empty() ? "" : ": ") + e.what());
   }
+}
+
+ordered_json scenario_list(Target& target, const Args& /*args*/) {
+  const auto ms = [](sim::SimTime t) {
+    return static_cast<double>(sim::ns_since_start(t)) / kNsPerMs;
+  };
+  ordered_json out = ordered_json::array();
+  for (const ScenarioRegistry::Progress& p : target.scenarios().all()) {
+    const auto next = p.next_at();
+    out.push_back({{"scenario", p.number},
+                   {"origin", p.origin},
+                   {"steps", p.times.size()},
+                   {"done", p.done},
+                   {"failed", p.failed},
+                   {"next_at_ms", next ? ordered_json(ms(*next)) : ordered_json(nullptr)},
+                   {"loaded_at_ms", ms(p.loaded_at)}});
+  }
+  return out;
 }
 
 }  // namespace dxlemu::control

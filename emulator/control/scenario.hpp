@@ -44,18 +44,29 @@ std::vector<ScenarioStep> parse_scenario(const nlohmann::ordered_json& scenario)
 /// plugging, shutdown), not those that read or need a connection.
 bool allowed_in_scenario(std::string_view command);
 
+/// A scenario scheduled: its number in Target::scenarios() and how many steps it has.
+struct ScheduledScenario {
+  std::size_t number = 0;
+  std::size_t steps = 0;
+};
+
 /// Checks every step of `scenario` against `target` (commands, arguments, rules, ports, servos)
-/// and then schedules each to run at its time after now; returns the number of steps. A step that
-/// fails when it runs is reported with Target::warn naming `origin` and the step. Throws
-/// ScenarioError (and schedules nothing) for a bad scenario.
-std::size_t schedule_scenario(Target& target, const nlohmann::ordered_json& scenario,
-                              const std::string& origin);
+/// and then schedules each to run at its time after now, recording the scenario in
+/// Target::scenarios() under `origin` (its file's path, or "request"); each step reports there
+/// when it runs. A step that fails when it runs is also reported with Target::warn naming
+/// `origin` and the step. Throws ScenarioError (and schedules and records nothing) for a bad
+/// scenario.
+ScheduledScenario schedule_scenario(Target& target, const nlohmann::ordered_json& scenario,
+                                    const std::string& origin);
 
 /// Reads the JSON of scenario file `path`. Throws ScenarioError when it cannot be read or parsed.
 nlohmann::ordered_json load_scenario_file(const std::filesystem::path& path);
 
 /// scenario.load {"file": PATH} or {"scenario": {...}}: schedules the scenario's steps; the
-/// result is {"steps": n}.
+/// result is {"steps": n, "scenario": its number}.
 ordered_json scenario_load(Target& target, const Args& args);
+
+/// scenario.list: every scenario loaded so far with its progress (Target::scenarios()).
+ordered_json scenario_list(Target& target, const Args& args);
 
 }  // namespace dxlemu::control

@@ -11,6 +11,7 @@
 #include "control/connection.hpp"
 #include "control/physics_view.hpp"
 #include "control/port_view.hpp"
+#include "control/scenario_registry.hpp"
 #include "faults/injector.hpp"
 #include "model/hand/trajectory.hpp"
 #include "sim/sim_time.hpp"
@@ -57,6 +58,15 @@ class Target {
   virtual void warn(const std::string& message) = 0;
   /// Asks the daemon to stop after this reply.
   virtual void request_shutdown() = 0;
+
+  /// The scenarios loaded so far and how far each has run (scenario.list). The control API's own
+  /// bookkeeping, kept here because the scheduled steps and the commands both reach the target:
+  /// implementations have nothing to do for it.
+  ScenarioRegistry& scenarios() { return scenarios_; }
+  const ScenarioRegistry& scenarios() const { return scenarios_; }
+
+ private:
+  ScenarioRegistry scenarios_;
 };
 
 }  // namespace dxlemu::control

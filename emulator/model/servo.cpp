@@ -64,7 +64,7 @@ constexpr std::size_t kV1MaxStatusParams = 0xFF - 2;
 }  // namespace
 
 Servo::Servo(std::shared_ptr<const ModelSpec> spec, std::uint8_t id, sim::SimDuration tick)
-    : table_(std::move(spec)), motion_(table_, tick) {
+    : table_(std::move(spec)), motion_(table_, tick), eeprom_writes_(table_.spec().items.size()) {
   items_.id = table_.index("id");
   items_.baud_rate = table_.index("baud_rate");
   items_.return_delay_time = item({"return_delay_time"});
@@ -177,6 +177,19 @@ bool Servo::replies_to(bool is_read) const {
   return level >= t.status_level_all || (is_read && level >= t.status_level_reads);
 }
 
+TableResult Servo::instruction_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                     wire::Protocol protocol) {
+  TableResult result = table_.bus_write(address, data, protocol);
+  if (result.ok()) {
+    table_.for_each_written([this](std::size_t item) {
+      if (spec().items[item].area == Area::Eeprom) {
+        ++eeprom_writes_[item];
+      }
+    });
+  }
+  return result;
+}
+
 sim::SimDuration Servo::write_time(std::size_t bytes) const {
   const Timing& t = spec().timing;
   return microseconds(t.write_us + t.write_per_byte_us * bytes);
@@ -220,7 +233,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
           }
           return read_part(ins.address, ins.length);
         } else if constexpr (std::is_same_v<T, wire::Write>) {
-          const TableResult result = table_.bus_write(ins.address, ins.data, packet.protocol);
+          const TableResult result = instruction_write(ins.address, ins.data, packet.protocol);
           return from_table(result, write_time(ins.data.size()));
         } else if constexpr (std::is_same_v<T, wire::RegWrite>) {
           // The data is checked on arrival; a refused Reg Write registers nothing.
@@ -243,7 +256,7 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
             table_.set(*items_.registered, 0);
           }
           const TableResult result =
-              table_.bus_write(pending.address, pending.data, packet.protocol);
+              instruction_write(pending.address, pending.data, packet.protocol);
           return from_table(result, write_time(pending.data.size()));
         } else if constexpr (std::is_same_v<T, wire::FactoryReset>) {
           return do_factory_reset(ins.option, broadcast);
@@ -287,7 +300,7 @@ ServoResponse Servo::execute_secondary(const wire::InstructionPacket& packet) {
   const auto* write = std::get_if<wire::Write>(&packet.instruction);
   const auto* reg_write = std::get_if<wire::RegWrite>(&packet.instruction);
   if (write != nullptr && !table_.touches_eeprom(write->address, write->data.size())) {
-    table_.bus_write(write->address, write->data, packet.protocol);
+    instruction_write(write->address, write->data, packet.protocol);
   } else if (reg_write != nullptr &&
              !table_.touches_eeprom(reg_write->address, reg_write->data.size())) {
     execute({packet.protocol, id_, *reg_write}, Addressing::Broadcast);
@@ -355,7 +368,7 @@ ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
 void Servo::write_part(std::uint16_t address, std::span<const std::uint8_t> data) {
   motion_.wake();
   if (protocol_) {
-    table_.bus_write(address, data, *protocol_);
+    instruction_write(address, data, *protocol_);
   }
 }
 

@@ -140,6 +140,14 @@ class Servo {
   /// does not fit the item's size, std::out_of_range for an unknown item.
   void device_write(std::size_t item_index, std::int64_t value);
 
+  /// How many times a bus instruction wrote EEPROM item `item_index` since the servo was made
+  /// (Write, Sync Write, Bulk Write, Action of a Reg Write; whether or not the value changed):
+  /// what wears its flash. Device-side changes (device_write, a state file), Factory Reset and
+  /// the restores of a backup are not counted. 0 for any other item.
+  std::uint64_t eeprom_writes(std::size_t item_index) const {
+    return item_index < eeprom_writes_.size() ? eeprom_writes_[item_index] : 0;
+  }
+
   /// True for the items whose new value applies only at commit_deferred(): ID, Baud Rate,
   /// Return Delay Time and Protocol Type (Protocol Version on MX(2.0)).
   bool defers(std::size_t item_index) const;
@@ -163,6 +171,10 @@ class Servo {
   /// FEETECH's Lock flag is 0: EEPROM writes persist, and backup/recovery may run.
   bool feetech_eeprom_unlocked() const;
   sim::SimDuration write_time(std::size_t bytes) const;
+  /// A write an instruction carried: the table's bus_write, with every EEPROM item it wrote
+  /// counted (eeprom_writes()). Every instruction's write goes through here, device-side ones not.
+  TableResult instruction_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                wire::Protocol protocol);
   std::optional<std::size_t> item(std::initializer_list<std::string_view> keys) const;
 
   ControlTable table_;
@@ -190,6 +202,7 @@ class Servo {
     std::vector<std::uint8_t> data;
   };
   std::optional<Registered> registered_;
+  std::vector<std::uint64_t> eeprom_writes_;         // by item index: eeprom_writes()
   std::optional<std::vector<std::uint8_t>> backup_;  // the whole byte image when stored
   /// FEETECH Parameter backup: the byte image Parameter recovery restores.
   std::optional<std::vector<std::uint8_t>> parameter_backup_;

@@ -135,6 +135,12 @@ class Control:
         return self.call("get", **_without_none(port=port, servo=servo, item=item,
                                                 address=address, size=size))["value"]
 
+    def table(self, servo: int, *, port: str | None = None) -> dict:
+        """The servo's whole control table: `port`, `servo`, `model`, `protocol` and `items`,
+        each item's model-file facts and `value` as get reads it, with `scaled` and
+        `scaled_unit` where its unit is "NUMBER [UNIT]"."""
+        return self.call("table", **_without_none(port=port, servo=servo))
+
     def set(self, servo: int, item: str | None = None, value: int | None = None, *,
             port: str | None = None, address: int | None = None, size: int | None = None) -> int:
         """Sets an item by key (or by `address` and `size`) to `value`, as a bus Write would
@@ -201,6 +207,11 @@ class Control:
     def fault_clear(self) -> None:
         """Removes every rule."""
         self.call("fault.clear")
+
+    def scenario_list(self) -> list[dict]:
+        """Every scenario loaded so far (scenario.load, --scenario) with its progress: `scenario`,
+        `origin`, `steps`, `done`, `failed`, `next_at_ms`, `loaded_at_ms`."""
+        return self.call("scenario.list")
 
     def trace_subscribe(self, port: str | None = None) -> Any:
         """From now on this connection receives every packet of `port` (or of every port) as

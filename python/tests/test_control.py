@@ -23,6 +23,29 @@ def test_list_and_stats_describe_the_bus(dxlemu):
     assert "bad_checks" in dxlemu.control.stats("dxl0")["dxl0"]
 
 
+def test_table_shows_every_item_with_its_value_and_scaled_unit(dxlemu):
+    table = dxlemu.control.table(1)
+    assert (table["servo"], table["protocol"]) == (1, 2)
+    goal = next(item for item in table["items"] if item["key"] == "goal_position")
+    assert goal["value"] == dxlemu.control.get(1, "goal_position")
+    assert (goal["access"], goal["area"], goal["scaled_unit"]) == ("RW", "RAM", "pulse")
+    with pytest.raises(ControlError, match="no servo 9 on dxl0"):
+        dxlemu.control.table(9, port="dxl0")
+
+
+def test_scenario_list_follows_a_scenario_on_the_stepped_clock(dxlemu):
+    control = dxlemu.control
+    assert control.scenario_list() == []
+    loaded = control.call("scenario.load", scenario={"steps": [
+        {"at_ms": 100, "cmd": "condition.set", "servo": 2, "ambient_temperature": 40}]})
+    assert loaded == {"steps": 1, "scenario": 1}
+    assert control.scenario_list()[0]["next_at_ms"] == 100.0
+    control.clock_step(ms=150)
+    listed = control.scenario_list()
+    assert [(s["origin"], s["done"], s["failed"], s["next_at_ms"]) for s in listed] == [
+        ("request", 1, 0, None)]
+
+
 def test_conditions_and_plugging(dxlemu):
     control = dxlemu.control
     assert control.condition_set(2, ambient_temperature=40)["ambient_temperature"] == 40.0

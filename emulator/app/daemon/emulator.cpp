@@ -129,7 +129,12 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
     }
     // One observer feeds the trace file, the capture and the control API's trace subscribers,
     // so all can be on at once.
-    port->bus->set_observer(trace_->observer(port_config.name, ports_.size()));
+    // Outside manual timing, each reply's trace record says how late it went out.
+    port->bus->set_observer(trace_->observer(
+        port_config.name, ports_.size(),
+        options_.timing == TimingMode::Manual ? TraceFanOut::Clock{} : TraceFanOut::Clock([this] {
+          return driver_.wall_now();
+        })));
     state_->add_port(port_config.name, *port->bus);
     port->faults = std::make_unique<faults::PortFaults>(scheduler_, port->bus->servos());
     port->faults->set_rules(&injector_, port_config.name);

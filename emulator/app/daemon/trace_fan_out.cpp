@@ -38,24 +38,29 @@ std::unique_ptr<TraceFanOut> TraceFanOut::open(const std::optional<std::filesyst
   return std::make_unique<TraceFanOut>(std::move(trace_file), std::move(pcap_file), pcap_start);
 }
 
-bus::LineObserver TraceFanOut::observer(const std::string& port, std::size_t index) {
-  return {
-      [this, port, index](const wire::FramerEvent& event) {
-        if (tracing()) {
-          trace(port, heard_record(port, event));
-        }
-        if (pcap_) {
-          pcap_->heard(index, event);
-        }
-      },
-      [this, port, index](std::span<const std::uint8_t> bytes, sim::SimTime at, wire::Protocol p) {
-        if (tracing()) {
-          trace(port, sent_record(port, bytes, at, p));
-        }
-        if (pcap_) {
-          pcap_->sent(index, bytes, at, p);
-        }
-      }};
+bus::LineObserver TraceFanOut::observer(const std::string& port, std::size_t index,
+                                        Clock wall_now) {
+  return {[this, port, index](const wire::FramerEvent& event) {
+            if (tracing()) {
+              trace(port, heard_record(port, event));
+            }
+            if (pcap_) {
+              pcap_->heard(index, event);
+            }
+          },
+          [this, port, index, wall_now = std::move(wall_now)](std::span<const std::uint8_t> bytes,
+                                                              sim::SimTime at, wire::Protocol p) {
+            if (tracing()) {
+              // As the late-reply guard measures it: never early.
+              const auto late = wall_now
+                                    ? std::optional(std::max(sim::SimDuration{0}, wall_now() - at))
+                                    : std::nullopt;
+              trace(port, sent_record(port, bytes, at, p, late));
+            }
+            if (pcap_) {
+              pcap_->sent(index, bytes, at, p);
+            }
+          }};
 }
 
 void TraceFanOut::trace(const std::string& port, const std::string& line) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -40,9 +41,14 @@ class TraceFanOut {
   TraceFanOut& operator=(const TraceFanOut&) = delete;
   ~TraceFanOut();
 
+  /// The present by the wall clock, on simulated time's scale (what the late-reply guard reads).
+  using Clock = std::function<sim::SimTime()>;
+
   /// The observer for the bus of the port named `port`, number `index` in config order (the
-  /// capture's port byte). The fan-out must outlive the bus's use of it.
-  bus::LineObserver observer(const std::string& port, std::size_t index);
+  /// capture's port byte). With `wall_now` (realtime and fast timing), each `out` record says how
+  /// late its delivery went out against its modelled time ("late_us"). The fan-out must outlive
+  /// the bus's use of it.
+  bus::LineObserver observer(const std::string& port, std::size_t index, Clock wall_now = {});
 
   /// Sends the trace events of `ports` (every port when empty) to `connection` from now on,
   /// replacing an earlier subscription of that connection; keeps a copy of it until

@@ -10,6 +10,7 @@ namespace dxlemu::app {
 namespace {
 
 constexpr double kNsPerSecond = 1e9;
+constexpr double kNsPerUs = 1e3;
 
 JsonLine record(const std::string& port, sim::SimTime at, const char* direction,
                 wire::Protocol protocol) {
@@ -77,7 +78,8 @@ std::string heard_record(const std::string& port, const wire::FramerEvent& event
 }
 
 std::string sent_record(const std::string& port, std::span<const std::uint8_t> bytes,
-                        sim::SimTime at, wire::Protocol protocol) {
+                        sim::SimTime at, wire::Protocol protocol,
+                        std::optional<sim::SimDuration> late) {
   JsonLine out = record(port, at, "out", protocol);
   out.text("hex", wire::to_hex(bytes));
   // One delivery holds one packet, except where replies collided or a Fast reply was cut short:
@@ -95,6 +97,9 @@ std::string sent_record(const std::string& port, std::span<const std::uint8_t> b
     out.text("problem", "not a complete packet (colliding or cut-short replies)");
   } else {
     out.text("packet", text);
+  }
+  if (late) {
+    out.real("late_us", static_cast<double>(late->count()) / kNsPerUs);
   }
   return out.finish();
 }

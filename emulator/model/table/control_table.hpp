@@ -91,6 +91,15 @@ class ControlTable {
   TableResult bus_write(std::uint16_t address, std::span<const std::uint8_t> data,
                         wire::Protocol protocol);
 
+  /// Calls `f(item)` with the index of each item the last successful bus_write wrote, in index
+  /// order. Only right after that bus_write: the next check_write or bus_write replaces them.
+  template <class F>
+  void for_each_written(F&& f) const {
+    for (const Touched& t : touched_) {
+      f(t.item);
+    }
+  }
+
   /// What bus_write would answer, without writing (Reg Write checks its data when it arrives).
   TableResult check_write(std::uint16_t address, std::span<const std::uint8_t> data,
                           wire::Protocol protocol) const;

@@ -88,6 +88,26 @@ TEST_CASE("A subscriber gets the trace events of its port or of every port until
   fan_out.unsubscribe(7);  // none: nothing happens
 }
 
+TEST_CASE("With a wall clock, each out record says how late it went out, never early",
+          "[app][trace]") {
+  auto file = std::make_unique<std::ostringstream>();
+  std::ostringstream& trace = *file;
+  app::TraceFanOut fan_out(std::move(file), nullptr, kTraceStart);
+  sim::SimTime wall = sim::SimTime{} + 2500us;
+  const bus::LineObserver dxl0 = fan_out.observer("dxl0", 0, [&wall] { return wall; });
+  dxl0.heard(heard(sim::SimTime{} + 1ms));
+  dxl0.sent(kStatus, sim::SimTime{} + 2ms, wire::Protocol::V2);
+  wall = sim::SimTime{} + 1ms;  // the wall clock behind the modelled time: not late
+  dxl0.sent(kStatus, sim::SimTime{} + 3ms, wire::Protocol::V2);
+  fan_out.flush();
+  CHECK(trace.str() ==
+        app::heard_record("dxl0", heard(sim::SimTime{} + 1ms)) + "\n" +
+            app::sent_record("dxl0", kStatus, sim::SimTime{} + 2ms, wire::Protocol::V2, 500us) +
+            "\n" +
+            app::sent_record("dxl0", kStatus, sim::SimTime{} + 3ms, wire::Protocol::V2, 0us) +
+            "\n");
+}
+
 TEST_CASE("The capture gets one record per packet, stamped with its port's index", "[app][trace]") {
   auto file = std::make_unique<std::ostringstream>();
   std::ostringstream& capture = *file;

@@ -4,6 +4,7 @@
 
 #include "app/record/trace_record.hpp"
 #include "wire/framer.hpp"
+#include "wire/hex.hpp"
 #include "wire/instruction_encoder.hpp"
 #include "wire/packet_encoder.hpp"
 
@@ -67,6 +68,15 @@ TEST_CASE("A reply sent is traced decoded, colliding bytes are traced as a probl
   const auto v1 = wire::encode_status({wire::Protocol::V1, 5, 0x20, {}});
   CHECK(parsed(app::sent_record("dxl0", v1, sim::SimTime{}, wire::Protocol::V1))["packet"] ==
         "id=5 error=0x20");
+  CHECK_FALSE(record.contains("late_us"));  // manual timing: nothing measures it
+}
+
+TEST_CASE("A reply's record says how late it went out when that is measured", "[app][trace]") {
+  const auto status = wire::encode_status({wire::Protocol::V2, 1, 0, {}});
+  CHECK(app::sent_record("dxl0", status, sim::SimTime{} + 3ms, wire::Protocol::V2,
+                         std::chrono::microseconds(1250)) ==
+        R"({"t":0.003,"port":"dxl0","dir":"out","protocol":2,"hex":")" + wire::to_hex(status) +
+            R"(","packet":"id=1 error=0x00","late_us":1250.0})");
 }
 
 TEST_CASE("FEETECH packets are traced with the protocol named, both ways", "[app][trace]") {

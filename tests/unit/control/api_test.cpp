@@ -230,11 +230,11 @@ TEST_CASE("stats reports every counter of every port, or of the one asked for", 
   const std::string dxl0 =
       R"("dxl0":{"bytes_in":10,"frames":1,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
       R"("impossible_lengths":0,"decode_errors":0,"replies":1,"unread_drops":0,"collisions":0,)"
-      R"("id_conflicts":0,"faults_injected":0})";
+      R"("id_conflicts":0,"faults_injected":0,"eeprom_writes":{}})";
   const std::string dxl1 =
       R"("dxl1":{"bytes_in":0,"frames":0,"garbage_bytes":0,"bad_checks":0,"truncated":0,)"
       R"("impossible_lengths":0,"decode_errors":0,"replies":0,"unread_drops":0,"collisions":0,)"
-      R"("id_conflicts":0,"faults_injected":0})";
+      R"("id_conflicts":0,"faults_injected":0,"eeprom_writes":{}})";
   CHECK(rig.api.handle(R"({"id":8,"cmd":"stats"})") ==
         R"({"id":8,"ok":true,"result":{)" + dxl0 + "," + dxl1 + "}}");
   CHECK(rig.api.handle(R"({"id":9,"cmd":"stats","port":"dxl1"})") ==
@@ -246,11 +246,11 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.api.handle(R"({"id":10,"cmd":"shutdown"})") == R"({"id":10,"ok":true,"result":{}})");
   CHECK(rig.target.shutdown_requested);
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
-        R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
-        R"("servo.attach","servo.power_cycle","servo.reboot","servo.factory_reset",)"
-        R"("fault.add","fault.list","fault.remove",)"
-        R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe",)"
-        R"("sample.subscribe","sample.unsubscribe","hand",)"
+        R"({"id":11,"ok":true,"result":["list","get","table","set","condition.set",)"
+        R"("servo.detach","servo.attach","servo.power_cycle","servo.reboot",)"
+        R"("servo.factory_reset","fault.add","fault.list",)"
+        R"("fault.remove","fault.clear","scenario.load","scenario.list","trace.subscribe",)"
+        R"("trace.unsubscribe","sample.subscribe","sample.unsubscribe","hand",)"
         R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
         R"("physics.apply","physics.scene","clock.now","clock.step","stats","shutdown","help"]})");
 }
@@ -310,9 +310,9 @@ TEST_CASE("A deeply nested request is refused without exhausting the stack", "[c
 TEST_CASE("A request without a known cmd is refused naming the commands", "[control]") {
   Rig rig;
   const std::string commands =
-      "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
-      "servo.reboot, servo.factory_reset, "
-      "fault.add, fault.list, fault.remove, fault.clear, scenario.load, trace.subscribe, "
+      "(commands: list, get, table, set, condition.set, servo.detach, servo.attach, "
+      "servo.power_cycle, servo.reboot, servo.factory_reset, fault.add, fault.list, "
+      "fault.remove, fault.clear, scenario.load, scenario.list, trace.subscribe, "
       "trace.unsubscribe, sample.subscribe, sample.unsubscribe, hand, hand.play, hand.sweep, "
       "hand.move, hand.stop, physics, physics.apply, physics.scene, clock.now, clock.step, stats, "
       "shutdown, help)";
@@ -612,7 +612,7 @@ TEST_CASE("scenario.load runs each step at its time on the simulated clock", "[c
       {"at_ms":0,"cmd":"condition.set","port":"dxl0","servo":2,"ambient_temperature":40},
       {"at_ms":100,"cmd":"fault.add","rule":{"action":"hardware_error","kind":"overheating","match":{"port":"dxl0","servos":[2]},"until_ms":50}},
       {"at_ms":200,"cmd":"servo.detach","port":"dxl0","servo":1}]}})") ==
-        json::parse(R"({"steps":3})"));
+        json::parse(R"({"steps":3,"scenario":1})"));
   CHECK(rig.result(R"({"cmd":"fault.list"})").empty());
   rig.target.step_clock(1ms);
   CHECK(rig.xm2.motion().conditions().ambient_c == 40);
@@ -632,7 +632,7 @@ TEST_CASE("scenario.load reads a file, and a step that fails when it runs is rep
   const std::string path = "scenario_load_test.json";
   std::ofstream(path) << R"({"steps":[{"at_ms":5,"cmd":"servo.attach","port":"dxl0","servo":1}]})";
   CHECK(rig.result(R"({"cmd":"scenario.load","file":")" + path + R"("})") ==
-        json::parse(R"({"steps":1})"));
+        json::parse(R"({"steps":1,"scenario":1})"));
   rig.target.step_clock(10ms);  // servo 1 is attached already: the step fails
   REQUIRE(rig.target.warnings.size() == 1);
   CHECK(rig.target.warnings.front() ==
@@ -692,6 +692,7 @@ TEST_CASE("A bad scenario is refused naming the step and the reason, and nothing
   rig.target.step_clock(10ms);
   CHECK(rig.target.warnings.empty());
   CHECK(rig.dxl0.bus.attached(rig.xm1));
+  CHECK(rig.result(R"({"cmd":"scenario.list"})") == json::array());  // none was recorded
 }
 
 TEST_CASE(

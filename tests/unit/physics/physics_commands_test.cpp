@@ -161,7 +161,7 @@ TEST_CASE("A scenario step pushes the world at its time", "[physics][mujoco][con
   CHECK(
       rig.result(R"({"cmd":"scenario.load","scenario":{"steps":[)"
                  R"({"at_ms":1000,"cmd":"physics.apply","joint":"shoulder","torque_nm":-1}]}})") ==
-      json::parse(R"({"steps":1})"));
+      json::parse(R"({"steps":1,"scenario":1})"));
   rig.wait_ms(999);
   CHECK(rig.result(R"({"cmd":"physics","joint":"shoulder"})")["external_torque_nm"] == 0.0);
   rig.wait_ms(1001);
