@@ -201,7 +201,7 @@ boost::asio::ip::address WebServer::State::parse_address(std::string text) {
     text = "127.0.0.1";
   }
   boost::system::error_code ec;
-  const auto parsed = boost::asio::ip::make_address(text, ec);
+  auto parsed = boost::asio::ip::make_address(text, ec);
   check(ec, "the web server's address \"" + text + "\" (a numeric IPv4 or IPv6 address)");
   return parsed;
 }
@@ -607,6 +607,14 @@ std::string WebServer::url() const {
   }
   return "http://" + host + ":" + std::to_string(state_->port) +
          "/?token=" + state_->options->token;
+}
+
+bool WebServer::loopback() const {
+  const auto& address = state_->address;
+  return address.is_loopback() ||
+         (address.is_v6() && address.to_v6().is_v4_mapped() &&
+          boost::asio::ip::make_address_v4(boost::asio::ip::v4_mapped, address.to_v6())
+              .is_loopback());
 }
 
 void WebServer::on_close(std::function<void(WebSession&)> callback) {

@@ -100,6 +100,9 @@ class WebServer {
   /// The page's address with the token, "http://127.0.0.1:8080/?token=..." (IPv6 in brackets;
   /// an unspecified address, 0.0.0.0 or ::, is given as 127.0.0.1 or [::1]).
   std::string url() const;
+  /// Whether the listening address is a loopback one (else the page is reachable from other
+  /// machines: the caller warns).
+  bool loopback() const;
   /// Called for each WebSocket session that closes (to drop its subscriptions). Never called
   /// from inside the handler or WebSession::send_event: a close is reported from an io_context
   /// handler of its own, or from the destructor for the sessions still open then.

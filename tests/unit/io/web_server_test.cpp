@@ -20,6 +20,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -203,8 +204,9 @@ class WsClient {
 
   // Upgrades with `target`, Host `host` (the server's address when empty) and Origin `origin`
   // (none when empty; "http://" + host when "same"); returns the HTTP status of the answer.
-  unsigned handshake(std::string target = "/ws?" + query_token(), std::string origin = "same",
-                     std::string host = {}, std::string cookie = {}) {
+  unsigned handshake(const std::string& target = "/ws?" + query_token(),
+                     std::string origin = "same", std::string host = {},
+                     const std::string& cookie = {}) {
     if (host.empty()) {
       host = rig_.host();
     }
@@ -477,8 +479,8 @@ TEST_CASE("A WebSocket carries request lines and their replies", "[io][web_serve
   client.send("throw\nid");
   CHECK(client.receive_lines(2) == Lines{"internal: boom", "1000"});
   // A message of exactly the limit is one line like any other.
-  client.send(std::string(64 * 1024, 'a'));
-  CHECK(client.receive() == std::string(64 * 1024, 'A'));
+  client.send(std::string(std::size_t{64} * 1024, 'a'));
+  CHECK(client.receive() == std::string(std::size_t{64} * 1024, 'A'));
 
   // localhost is this server too.
   WsClient local(rig);
@@ -505,7 +507,8 @@ TEST_CASE("A WebSocket upgrade needs the token in its URL and this server's Host
   CHECK(status_of(rig, "/ws?" + query_token()) == 400);  // not an upgrade
 }
 
-TEST_CASE("An oversize message closes with 1009, a binary one with 1003", "[io][web_server]") {
+TEST_CASE("An oversize message closes with 1009, a binary one with 1003, bad UTF-8 with 1007",
+          "[io][web_server]") {
   Rig rig([](WebServerOptions& options) { options.max_message = 1000; });
   WsClient big(rig);
   REQUIRE(big.handshake() == 101);
@@ -521,8 +524,15 @@ TEST_CASE("An oversize message closes with 1009, a binary one with 1003", "[io][
   CHECK(binary.error() == websocket::error::closed);
   CHECK(binary.close_code() == websocket::close_code::unknown_data);
 
-  REQUIRE(run_until(rig.io, [&] { return rig.closed.size() == 2; }));
-  CHECK(rig.closed == std::vector<std::uint64_t>{1, 2});
+  WsClient garbled(rig);
+  REQUIRE(garbled.handshake() == 101);
+  garbled.send("caf\xc3");  // not UTF-8
+  CHECK(garbled.receive().empty());
+  CHECK(garbled.error() == websocket::error::closed);
+  CHECK(garbled.close_code() == websocket::close_code::bad_payload);
+
+  REQUIRE(run_until(rig.io, [&] { return rig.closed.size() == 3; }));
+  CHECK(rig.closed == std::vector<std::uint64_t>{1, 2, 3});
   CHECK(rig.server->sessions() == 0);
 }
 
@@ -627,7 +637,7 @@ TEST_CASE("A client with many replies unread is read no more until it reads them
   const std::string big(std::size_t{256} * 1024, 'r');
   Rig rig({}, [&](std::string_view, WebSession&) {
     ++requests;
-    return big;
+    return std::string(big);
   });
   WsClient client(rig, 8192);
   REQUIRE(client.handshake() == 101);
@@ -715,6 +725,7 @@ TEST_CASE("The server's address, its URL and a port in use", "[io][web_server]")
   Rig rig;
   const std::string port = std::to_string(rig.server->port());
   CHECK(rig.server->port() != 0);
+  CHECK(rig.server->loopback());
   CHECK(rig.server->url() == "http://127.0.0.1:" + port + "/?token=" + std::string(kToken));
 
   WebServerOptions options;
@@ -735,10 +746,12 @@ TEST_CASE("The server's address, its URL and a port in use", "[io][web_server]")
   options.address = "0.0.0.0";
   const WebServer any(rig.io, options, upper_case, replies);
   CHECK(any.url() == "http://127.0.0.1:" + std::to_string(any.port()) + "/?token=t");
+  CHECK_FALSE(any.loopback());
   options.address = "[::1]";
   try {
     const WebServer six(rig.io, options, upper_case, replies);
     CHECK(six.url() == "http://[::1]:" + std::to_string(six.port()) + "/?token=t");
+    CHECK(six.loopback());
   } catch (const std::system_error&) {
     WARN("no IPv6 loopback here: its URL is not checked");
   }
