@@ -31,7 +31,9 @@
 #include "io/web_files.hpp"
 #include "io_rig.hpp"
 
-namespace {
+// A named namespace around the helpers and the cases: in a unity build this file shares a
+// compiler run with control_server_test.cpp, whose helpers have the same names.
+namespace dxlemu::web_server_test {
 
 namespace beast = boost::beast;
 namespace http = boost::beast::http;
@@ -270,8 +272,6 @@ class WsClient {
   websocket::stream<tcp::socket> ws_;
   beast::error_code error_;
 };
-
-}  // namespace
 
 TEST_CASE("Access rules: query token, cookie, Host and Origin", "[io][web_server]") {
   CHECK(web::query_value("a=1&token=ab%63&token=x", "token") == "abc");
@@ -756,3 +756,5 @@ TEST_CASE("The server's address, its URL and a port in use", "[io][web_server]")
     WARN("no IPv6 loopback here: its URL is not checked");
   }
 }
+
+}  // namespace dxlemu::web_server_test
