@@ -56,7 +56,7 @@ class WebSession {
   /// Queues an event line (no newline) to this client. Events are gathered and written every
   /// WebServerOptions::event_interval; a client that does not keep up loses its oldest ones
   /// (it is told how many in a `{"event":"dropped",...}` line). Safe to call from a handler or
-  /// later; ignored once the client has gone.
+  /// later; ignored once the client has gone, and when empty.
   virtual void send_event(std::string line) = 0;
   /// A number unique to this session among the server's (from first_session_id up).
   virtual std::uint64_t id() const = 0;
