@@ -31,8 +31,8 @@ namespace {
 
 // After a control API shutdown, how long replies still queued get to reach their clients.
 constexpr std::chrono::milliseconds kShutdownFlush{100};
-// Web connection ids have this bit set, so that they never equal a control socket's.
-constexpr std::uint64_t kWebConnections = std::uint64_t{1} << 62;
+// The first web connection's id: above any the control socket gives out.
+constexpr std::uint64_t kFirstWebConnection = std::uint64_t{1} << 62;
 // How far the physics world, and servos a hand moves, may lag simulated time between reads.
 constexpr std::chrono::milliseconds kMotionCatchUp{10};
 
@@ -163,7 +163,6 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
   driver_.set_after_events([this] { finish_handler(); });
   api_ = std::make_unique<control::Api>(*this);
-  const io::ControlServer::Replies replies{control::oversize_line, control::internal_error_line};
   control_ = std::make_unique<io::ControlServer>(
       io_, options_.control.value_or(default_control_path()),
       [this](std::string_view line, io::ControlSession& session) {
@@ -172,10 +171,10 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
                                        session.send(std::move(event));
                                      }});
       },
-      replies);
+      io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
   control_->on_close([this](io::ControlSession& session) { api_->closed(session.id()); });
   if (options_.web) {
-    start_web(replies);
+    start_web();
   }
   start_hands();
   keep_motion_caught_up();
@@ -219,28 +218,26 @@ std::string Emulator::handle_request(std::string_view line, const control::Conne
   return reply;
 }
 
-void Emulator::start_web(const io::ControlServer::Replies& replies) {
+void Emulator::start_web() {
   io::WebServerOptions web;
   web.address = options_.web->address;
   web.port = options_.web->port;
   web.token = random_token();
   web.web_root = options_.web_root.empty() ? shipped_web_dir() : options_.web_root;
+  // Both servers reach the same API, which tells its connections (trace and sample
+  // subscribers) apart by id: the web's are numbered apart from the control socket's.
+  web.first_session_id = kFirstWebConnection;
   web_ = std::make_unique<io::WebServer>(
       io_, std::move(web),
       [this](std::string_view line, io::WebSession& session) {
-        // Web connections number apart from the control socket's: both reach the same API,
-        // which tells its connections (trace and sample subscribers) apart by id.
-        control::Connection connection{kWebConnections | session.id(),
-                                       [&session](std::string event) {
-                                         session.send_event(std::move(event));
-                                       }};
+        control::Connection connection{
+            session.id(), [&session](std::string event) { session.send_event(std::move(event)); }};
         connection.read_only = options_.web_read_only;
         return handle_request(line, connection);
       },
-      replies);
-  web_->on_close(
-      [this](io::WebSession& session) { api_->closed(kWebConnections | session.id()); });
-  if (!options_.web->loopback()) {
+      io::WebServer::Replies{control::internal_error_line});
+  web_->on_close([this](io::WebSession& session) { api_->closed(session.id()); });
+  if (!web_->loopback()) {
     log(LogLevel::Warn, "--web " + options_.web->address +
                             ": the web interface is reachable from other machines; anyone "
                             "with its URL (the token) can drive the bus");

@@ -67,7 +67,7 @@ class Emulator : public control::Target {
   /// with the bus brought up to now first and its replies sent after.
   std::string handle_request(std::string_view line, const control::Connection& connection);
   /// Serves the web interface at options_.web (docs/web.md) and logs its URL.
-  void start_web(const io::ControlServer::Replies& replies);
+  void start_web();
   /// Puts on each port the hands its config starts with (--hand, "hand"). Throws
   /// std::invalid_argument naming where the hand was given and why it is refused.
   void start_hands();
