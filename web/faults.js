@@ -133,6 +133,13 @@ async function loadScenario() {
   await pollScenarios();
 }
 
+// {"port":"arm","servos":[3]} as "port=arm servos=3": dense, and still the API's names.
+function pairs(object) {
+  const text = Object.entries(object ?? {}).map(([key, value]) =>
+    `${key}=${Array.isArray(value) ? value.join(',') : typeof value === 'object' ? JSON.stringify(value) : value}`);
+  return text.join(' ');
+}
+
 function renderRules(rules) {
   const body = $('fault-list').tBodies[0];
   const rows = rules.map((entry) => {
@@ -140,8 +147,8 @@ function renderRules(rules) {
     return el('tr', {dataset: {rule: String(entry.id)}, class: entry.active ? 'active' : 'inactive'},
       el('td', {class: 'num'}, entry.id),
       el('td', {}, action ?? ''),
-      el('td', {class: 'mono'}, match ? JSON.stringify(match) : 'all'),
-      el('td', {class: 'mono'}, JSON.stringify(rest)),
+      el('td', {class: 'mono', title: JSON.stringify(match ?? {})}, pairs(match) || 'all'),
+      el('td', {class: 'mono', title: JSON.stringify(entry.rule ?? {})}, pairs(rest)),
       el('td', {class: 'num'}, entry.matched),
       el('td', {class: 'num'}, entry.fired),
       el('td', {}, entry.active ? 'yes' : 'no'),

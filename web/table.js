@@ -22,12 +22,12 @@ function scaledText(item) {
   if (item.scaled !== undefined && item.scaled !== null) {
     return `${fmt(item.scaled, 3)} ${item.scaled_unit ?? ''}`.trim();
   }
-  // An older daemon without `scaled`: work it out from the unit text.
+  // A unit the daemon does not scale (FEETECH's "0.1V") or a daemon without `scaled`.
   const unit = parseUnit(item.unit);
-  if (unit && typeof item.value === 'number' && unit.unit !== 'pulse' && unit.factor !== 1) {
-    return `${fmt(item.value * unit.factor, 3)} ${unit.unit}`;
+  if (unit && typeof item.value === 'number') {
+    return `${fmt(Math.round(item.value * unit.factor * 1e9) / 1e9, 3)} ${unit.unit}`;
   }
-  return item.unit && !unit ? item.unit : '';
+  return '';
 }
 
 function buildRows(result) {

@@ -105,13 +105,15 @@ export function parseInteger(text) {
   return null;
 }
 
-/** Parses a control-table unit "0.229 [rev/min]" or "58,000 [rev/min²]": {factor, unit} or null. */
+/** Parses a control-table unit of one figure and one unit, "0.229 [rev/min]", "58,000 [rev/min²]"
+ *  or the FEETECH files' "0.1V", "6.5mA": {factor, unit}; null for other forms ("R",
+ *  "214.577 [rev/min²] / 1 [ms]"). */
 export function parseUnit(text) {
   if (typeof text !== 'string') return null;
-  const match = /^\s*(-?[\d,]*\.?\d+)\s*\[(.*)\]\s*$/.exec(text);
+  const match = /^\s*(-?(?:\d{1,3}(?:,\d{3})+(?:\.\d+)?|\d*\.?\d+))\s*(?:\[([^\]\[]+)\]|([^\d\s\[\]/][^\[\]/]*))\s*$/.exec(text);
   if (!match) return null;
   const factor = Number(match[1].replace(/,/g, ''));
-  return Number.isFinite(factor) ? {factor, unit: match[2]} : null;
+  return Number.isFinite(factor) ? {factor, unit: (match[2] ?? match[3]).trim()} : null;
 }
 
 /** Resolves after ms milliseconds. */
