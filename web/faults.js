@@ -23,14 +23,14 @@ const kPresets = {
     requests: ({port, servo, minVoltage}) => [{cmd: 'condition.set', port, servo, supply_voltage: Math.max(0, Math.round(((minVoltage ?? 7) - 1) * 10) / 10)}],
   },
   drop_replies: {
-    title: 'fault.add drop_reply with probability 0.2: one status in five from the servo never arrives (a loose connector); ' +
-           'the controller times out and should retry.',
-    requests: ({port, servo}) => [{cmd: 'fault.add', rule: {action: 'drop_reply', match: {port, servos: [servo]}, probability: 0.2}}],
+    title: 'fault.add drop_reply: every status from the servo is lost on the way back (a broken return line); the ' +
+           'controller times out. Edit the rule\'s "probability" (e.g. 0.05) for an intermittent contact.',
+    requests: ({port, servo}) => [{cmd: 'fault.add', rule: {action: 'drop_reply', match: {port, servos: [servo]}}}],
   },
   corrupt_replies: {
-    title: 'fault.add corrupt_crc with probability 0.2: one status in five from the servo has a wrong CRC or checksum ' +
-           '(electrical noise); the controller should reject it and retry.',
-    requests: ({port, servo}) => [{cmd: 'fault.add', rule: {action: 'corrupt_crc', match: {port, servos: [servo]}, probability: 0.2}}],
+    title: 'fault.add corrupt_crc: every status from the servo arrives with a wrong CRC or checksum (electrical noise); ' +
+           'the controller must reject it. Edit the rule\'s "probability" (e.g. 0.05) for occasional noise.',
+    requests: ({port, servo}) => [{cmd: 'fault.add', rule: {action: 'corrupt_crc', match: {port, servos: [servo]}}}],
   },
   slow_servo: {
     title: 'fault.add slow 5000 µs: the servo takes 5 ms longer over every packet (busy firmware), so its statuses and the ' +

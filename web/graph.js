@@ -180,6 +180,26 @@ function csv() {
   return `${lines.join('\n')}\n`;
 }
 
+/** Adds an item to the graph (the Add button, and window.dxlemu.graphAdd for tests); resolves
+ *  once the daemon has the new subscription. */
+function add(port, servo, item) {
+  if (items.length >= kMaxItems) {
+    showMessage($('graph-message'), `at most ${kMaxItems} items`, false);
+    return subscribing;
+  }
+  if (items.some((i) => i.port === port && i.servo === servo && i.item === item)) return subscribing;
+  items.push({port, servo, item});
+  renderItems();
+  return resubscribe();
+}
+
+/** Removes every item (window.dxlemu.graphClear). */
+function clear() {
+  items = [];
+  renderItems();
+  return resubscribe();
+}
+
 function init() {
   $('graph-servo').addEventListener('change', () => {
     delete $('graph-item').dataset.chosen;
@@ -190,15 +210,8 @@ function init() {
     const key = $('graph-servo').value;
     const item = $('graph-item').value;
     if (!key || !item) return;
-    if (items.length >= kMaxItems) {
-      showMessage($('graph-message'), `at most ${kMaxItems} items`, false);
-      return;
-    }
     const {port, servo} = parseServoKey(key);
-    if (items.some((i) => i.port === port && i.servo === servo && i.item === item)) return;
-    items.push({port, servo, item});
-    renderItems();
-    resubscribe();
+    add(port, servo, item);
   });
   $('graph-items').addEventListener('click', (event) => {
     const button = event.target.closest('button.remove');
@@ -257,4 +270,6 @@ export default {
     return resubscribe();
   },
   csv,
+  add,
+  clear,
 };

@@ -116,6 +116,8 @@ function start() {
   window.dxlemu = {
     api: (req) => api.request(req),
     graphCsv: () => graphView.csv(),
+    graphAdd: (port, servo, item) => graphView.add(port, Number(servo), item),
+    graphClear: () => graphView.clear(),
     packetsJsonl: () => packetsView.jsonl(),
     packetsPcap: () => packetsView.pcap(),
     droppedEvents: () => api.droppedEvents(),
