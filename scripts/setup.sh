@@ -23,6 +23,11 @@ packages=(
   python3-wheel       # setuptools' bdist_wheel, which that build needs
   tshark              # CI checks the Wireshark dissector (scripts/dxlemu.lua) on a capture
   libmujoco-dev       # physics (docs/physics.md): optional for users, built and tested by CI
+  libjs-three         # the web interface's 3D view (docs/web.md), served from /usr/share/javascript
+  libjs-chart.js      # the web interface's graphs
+  chromium            # the web interface's browser tests (tests/web), headless
+  chromium-driver     # ... driven by Selenium through chromedriver
+  python3-selenium    # ... from Python
 )
 
 missing=()

@@ -74,6 +74,17 @@ void Bus::power_on(model::Servo& servo) {
   }
 }
 
+model::ServoResponse Bus::instruct(model::Servo& servo, const wire::InstructionPacket& packet) {
+  Node* s = node_of(servo);
+  if (s == nullptr) {
+    return {};
+  }
+  servo.advance_to(scheduler_.now());
+  model::ServoResponse response = servo.execute(packet, model::Addressing::Unicast);
+  settle(*s, response.reboot_after, scheduler_.now());
+  return response;
+}
+
 BusStats Bus::stats() const {
   BusStats out = stats_;
   out.faults_injected = faults_ != nullptr ? faults_->injected() : 0;

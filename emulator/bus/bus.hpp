@@ -71,6 +71,11 @@ class Bus {
   /// Plugs `servo` in, or power-cycles it if it is plugged in: it powers on as after a reboot
   /// (RAM to initial values or the backup, Startup Configuration) and is silent while it boots.
   void power_on(model::Servo& servo);
+  /// Executes `packet` on `servo` now, as if it were addressed to that servo alone, without
+  /// putting anything on the line: its effects, including a new ID or baud and a reboot, apply
+  /// as when its status goes out (the control API's servo.reboot and servo.factory_reset).
+  /// Returns what the servo would have answered.
+  model::ServoResponse instruct(model::Servo& servo, const wire::InstructionPacket& packet);
   /// False while `servo` is unplugged.
   bool attached(const model::Servo& servo) const;
 

@@ -58,6 +58,8 @@ const std::vector<Command>& commands() {
       {"servo.detach", {"port", "servo"}, servo_detach},
       {"servo.attach", {"port", "servo"}, servo_attach},
       {"servo.power_cycle", {"port", "servo"}, servo_power_cycle},
+      {"servo.reboot", {"port", "servo"}, servo_reboot},
+      {"servo.factory_reset", {"port", "servo", "keep"}, servo_factory_reset},
       {"fault.add", {"rule"}, fault_add},
       {"fault.list", {}, fault_list},
       {"fault.remove", {"rule"}, fault_remove},

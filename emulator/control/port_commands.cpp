@@ -1,6 +1,7 @@
 #include "control/port_commands.hpp"
 
 #include <array>
+#include <cstdio>
 #include <optional>
 #include <string_view>
 #include <utility>
@@ -106,6 +107,29 @@ Plugged plugged(Target& target, const Args& args) {
   return {port, servo_on(port, id)};
 }
 
+/// Runs `instruction` on a plugged-in servo that is not booting, as if the bus addressed it;
+/// refused, naming the error, when the servo would answer it with an error status.
+ordered_json instruct(const Plugged& p, wire::Instruction instruction, std::string_view what) {
+  const std::string servo = "servo " + std::to_string(p.servo.id()) + " on " + p.port.name;
+  if (!p.port.view.attached(p.servo)) {
+    refuse(servo + " is detached: it hears no " + std::string(what));
+  }
+  if (p.port.view.booting(p.servo)) {
+    refuse(servo + " is booting: it hears no " + std::string(what) + " until it is up");
+  }
+  const wire::InstructionPacket packet{p.servo.protocol().value_or(wire::Protocol::V2),
+                                       p.servo.id(), std::move(instruction)};
+  const model::ServoResponse response = p.port.view.instruct(p.servo, packet);
+  if (response.error != 0) {
+    char error[8];
+    std::snprintf(error, sizeof error, "0x%02X", response.error);
+    refuse(servo + " refuses " + std::string(what) + ": its status would carry error " + error);
+  }
+  return {{"servo", p.servo.id()},
+          {"attached", p.port.view.attached(p.servo)},
+          {"booting", p.port.view.booting(p.servo)}};
+}
+
 ordered_json attached_json(const Plugged& p) {
   return {{"attached", p.port.view.attached(p.servo)}, {"booting", p.port.view.booting(p.servo)}};
 }
@@ -178,6 +202,28 @@ ordered_json servo_power_cycle(Target& target, const Args& args) {
   const Plugged p = plugged(target, args);
   p.port.view.power_on(p.servo);
   return attached_json(p);
+}
+
+ordered_json servo_reboot(Target& target, const Args& args) {
+  return instruct(plugged(target, args), wire::Reboot{}, "Reboot");
+}
+
+ordered_json servo_factory_reset(Target& target, const Args& args) {
+  const Plugged p = plugged(target, args);
+  const std::string keep = args.string("keep").value_or("none");
+  std::uint8_t option = wire::factory_reset::kResetAll;
+  if (keep == "id") {
+    option = wire::factory_reset::kResetAllButId;
+  } else if (keep == "id_baud") {
+    option = wire::factory_reset::kResetAllButIdAndBaud;
+  } else if (keep != "none") {
+    refuse("\"keep\" must be \"none\", \"id\" or \"id_baud\", not " + json_quoted(keep));
+  }
+  if (option != wire::factory_reset::kResetAll && p.servo.protocol() != wire::Protocol::V2) {
+    refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name +
+           " does not speak Protocol 2.0, whose Factory Reset alone can keep the ID or baud");
+  }
+  return instruct(p, wire::FactoryReset{option}, "Factory Reset");
 }
 
 }  // namespace dxlemu::control

@@ -45,6 +45,10 @@ class PortView {
   virtual void detach(model::Servo& servo) = 0;
   /// Plugs `servo` in, or power-cycles it if it is plugged in; it then boots.
   virtual void power_on(model::Servo& servo) = 0;
+  /// Executes `packet` on `servo` as if the bus had addressed it (a Reboot, a Factory Reset),
+  /// with its effects applied now and nothing sent on the line; returns the servo's answer.
+  virtual model::ServoResponse instruct(model::Servo& servo,
+                                        const wire::InstructionPacket& packet) = 0;
 
   /// The port's counters since it was made.
   virtual bus::BusStats stats() const = 0;

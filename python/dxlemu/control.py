@@ -166,6 +166,16 @@ class Control:
         """Switches a plugged-in servo off and on: a reboot, then its boot time."""
         return self.call("servo.power_cycle", **_without_none(port=port, servo=servo))
 
+    def reboot(self, servo: int, *, port: str | None = None) -> dict:
+        """The Reboot instruction, as a tool sends it: RAM reset, EEPROM kept, then its boot time."""
+        return self.call("servo.reboot", **_without_none(port=port, servo=servo))
+
+    def factory_reset(self, servo: int, *, keep: str | None = None,
+                      port: str | None = None) -> dict:
+        """The Factory Reset instruction; `keep` is "none" (default), "id" or "id_baud"."""
+        return self.call("servo.factory_reset",
+                         **_without_none(port=port, servo=servo, keep=keep))
+
     def clock_now(self) -> int:
         """Simulated time since the daemon started, in nanoseconds."""
         return self.call("clock.now")["ns"]

@@ -29,6 +29,10 @@ def test_conditions_and_plugging(dxlemu):
     assert control.detach(3) == {"attached": False, "booting": False}
     assert control.attach(3) == {"attached": True, "booting": True}
     assert control.power_cycle(1) == {"attached": True, "booting": True}
+    assert control.reboot(2) == {"servo": 2, "attached": True, "booting": True}
+    control.set(3, "led", 1)
+    dxlemu.control.clock_step(ms=1000)
+    assert control.factory_reset(3, keep="id")["servo"] == 3
 
 
 def test_the_clock_is_stepped_in_manual_timing(dxlemu):

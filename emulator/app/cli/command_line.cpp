@@ -277,6 +277,22 @@ void add_daemon_options(CLI::App& run, CommandLine& line) {
                  "The control API's Unix socket (docs/control-api.md); default: "
                  "$XDG_RUNTIME_DIR or /tmp, dxlemu-PID.sock")
       ->type_name("PATH");
+  run.add_option("--web", line.web,
+                 "Serve the web interface on PORT of ADDR (default 127.0.0.1; 0: any free "
+                 "port); the URL to open, with its access token, is printed (docs/web.md)")
+      ->type_name("[ADDR:]PORT")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              parse_web_address(text);
+              return std::string();
+            } catch (const std::invalid_argument& e) {
+              return std::string(e.what());
+            }
+          },
+          "[ADDR:]PORT"));
+  run.add_flag("--web-read-only", options.web_read_only,
+               "The web interface only shows: every change through it is refused");
   run.add_option("--trace", options.trace,
                  "Write every packet both ways, decoded, as JSON lines to FILE (docs/trace.md)")
       ->type_name("FILE");

@@ -72,6 +72,7 @@ struct CommandLine {
   std::int64_t late_reply_limit_ms = 0;     ///< --late-reply-limit-ms
   int tick_hz = 0;                          ///< --tick-hz
   std::string log_level;                    ///< --log-level
+  std::string web;                          ///< --web, before parse_web_address; empty: none
   CtlArguments ctl;
   ModelsArguments models;
   ExecArguments exec;

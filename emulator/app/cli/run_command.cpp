@@ -12,6 +12,7 @@
 #include "app/config/hand_start.hpp"
 #include "app/config/robot_library.hpp"
 #include "app/config/trajectory_library.hpp"
+#include "app/config/web_address.hpp"
 #include "app/daemon/emulator.hpp"
 #include "app/daemon/log.hpp"
 
@@ -75,6 +76,10 @@ void serve(const CommandLine& line, bool link_given) {
     options.pty_handover = std::chrono::microseconds(*line.handover_us);
   }
   options.trajectory_dirs.push_back(shipped_robots_dir() / kTrajectoryFolder);
+  if (!line.web.empty()) {
+    options.web = parse_web_address(line.web);
+    options.web_root = shipped_web_dir();
+  }
   for (const std::string& dir : line.robot_dirs) {
     options.trajectory_dirs.push_back(std::filesystem::path(dir) / kTrajectoryFolder);
   }

@@ -26,6 +26,10 @@ class BusPortView final : public control::PortView {
   bool booting(const model::Servo& servo) const override { return bus_.booting(servo); }
   void detach(model::Servo& servo) override { bus_.detach(servo); }
   void power_on(model::Servo& servo) override { bus_.power_on(servo); }
+  model::ServoResponse instruct(model::Servo& servo,
+                                const wire::InstructionPacket& packet) override {
+    return bus_.instruct(servo, packet);
+  }
   bus::BusStats stats() const override { return bus_.stats(); }
   std::optional<bus::LatenessSummary> lateness() const override;
 

@@ -5,11 +5,14 @@
 #include <boost/asio/signal_set.hpp>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "app/config/make_servo.hpp"
 #include "app/config/trajectory_file.hpp"
 #include "app/config/trajectory_library.hpp"
+#include "app/config/web_address.hpp"
 #include "app/daemon/bus_port_view.hpp"
 #include "app/daemon/log.hpp"
 #include "app/daemon/port_link_chain.hpp"
@@ -28,8 +31,22 @@ namespace {
 
 // After a control API shutdown, how long replies still queued get to reach their clients.
 constexpr std::chrono::milliseconds kShutdownFlush{100};
+// Web connection ids have this bit set, so that they never equal a control socket's.
+constexpr std::uint64_t kWebConnections = std::uint64_t{1} << 62;
 // How far the physics world, and servos a hand moves, may lag simulated time between reads.
 constexpr std::chrono::milliseconds kMotionCatchUp{10};
+
+// 128 random bits as 32 hex digits: the web interface's access token (docs/web.md).
+std::string random_token() {
+  std::random_device device;  // getrandom(2) on Linux
+  std::string token;
+  for (int i = 0; i < 4; ++i) {
+    char word[9];
+    std::snprintf(word, sizeof word, "%08x", device());
+    token += word;
+  }
+  return token;
+}
 
 }  // namespace
 
@@ -141,21 +158,20 @@ Emulator::Emulator(const ModelLibrary& library, const BusConfig& config, const R
   // EEPROM also changes in scheduled events (a reboot that restores a Control Table Backup).
   driver_.set_after_events([this] { finish_handler(); });
   api_ = std::make_unique<control::Api>(*this);
+  const io::ControlServer::Replies replies{control::oversize_line, control::internal_error_line};
   control_ = std::make_unique<io::ControlServer>(
       io_, options_.control.value_or(default_control_path()),
       [this](std::string_view line, io::ControlSession& session) {
-        driver_.catch_up();
-        // The session stays valid until on_close, which ends its trace events.
-        const control::Connection connection{
-            session.id(), [&session](std::string event) { session.send(std::move(event)); }};
-        std::string reply = api_->handle(line, &connection);
-        keep_motion_caught_up();
-        driver_.rearm();
-        finish_handler();  // a set of an EEPROM item is kept like a bus write
-        return reply;
+        // The session stays valid until on_close, which ends its events.
+        return handle_request(line, {session.id(), [&session](std::string event) {
+                                       session.send(std::move(event));
+                                     }});
       },
-      io::ControlServer::Replies{control::oversize_line, control::internal_error_line});
-  control_->on_close([this](io::ControlSession& session) { trace_->unsubscribe(session.id()); });
+      replies);
+  control_->on_close([this](io::ControlSession& session) { api_->closed(session.id()); });
+  if (options_.web) {
+    start_web(replies);
+  }
   start_hands();
   keep_motion_caught_up();
   if (options_.scenario) {
@@ -187,6 +203,45 @@ void Emulator::start_hands() {
                               (reply["result"]["loop"] == true ? ", looping" : ""));
     }
   }
+}
+
+std::string Emulator::handle_request(std::string_view line, const control::Connection& connection) {
+  driver_.catch_up();
+  std::string reply = api_->handle(line, &connection);
+  keep_motion_caught_up();
+  driver_.rearm();
+  finish_handler();  // a set of an EEPROM item is kept like a bus write
+  return reply;
+}
+
+void Emulator::start_web(const io::ControlServer::Replies& replies) {
+  io::WebServerOptions web;
+  web.address = options_.web->address;
+  web.port = options_.web->port;
+  web.token = random_token();
+  web.web_root = options_.web_root.empty() ? shipped_web_dir() : options_.web_root;
+  web_ = std::make_unique<io::WebServer>(
+      io_, std::move(web),
+      [this](std::string_view line, io::WebSession& session) {
+        // Web connections number apart from the control socket's: both reach the same API,
+        // which tells its connections (trace and sample subscribers) apart by id.
+        control::Connection connection{kWebConnections | session.id(),
+                                       [&session](std::string event) {
+                                         session.send_event(std::move(event));
+                                       }};
+        connection.read_only = options_.web_read_only;
+        return handle_request(line, connection);
+      },
+      replies);
+  web_->on_close(
+      [this](io::WebSession& session) { api_->closed(kWebConnections | session.id()); });
+  if (!options_.web->loopback()) {
+    log(LogLevel::Warn, "--web " + options_.web->address +
+                            ": the web interface is reachable from other machines; anyone "
+                            "with its URL (the token) can drive the bus");
+  }
+  log(LogLevel::Info, std::string("web interface") +
+                          (options_.web_read_only ? " (read-only)" : "") + ": " + web_->url());
 }
 
 void Emulator::subscribe_trace(const control::Connection& connection,
@@ -338,6 +393,9 @@ void Emulator::run(std::ostream& out) {
     }
     ready["servos"] = servos;
     ready["control"] = control_->path().string();
+    if (web_) {
+      ready["web"] = web_->url();
+    }
     ready["seed"] = injector_.seed();
     out << ready.dump() << std::endl;  // flushed: scripts wait for this line
     log(LogLevel::Info, port->config.name + ": " + std::to_string(port->config.servos.size()) +

@@ -17,6 +17,7 @@
 #include "io/control_server.hpp"
 #include "io/cpu_wait.hpp"
 #include "io/realtime_driver.hpp"
+#include "io/web_server.hpp"
 #include "physics/world_clock.hpp"
 #include "sim/scheduler.hpp"
 
@@ -62,6 +63,11 @@ class Emulator : public control::Target {
   struct Port;
   /// What every I/O handler does last: flushes the trace file and saves the state if it changed.
   void finish_handler();
+  /// Answers one request line of either transport (the control socket, the web interface),
+  /// with the bus brought up to now first and its replies sent after.
+  std::string handle_request(std::string_view line, const control::Connection& connection);
+  /// Serves the web interface at options_.web (docs/web.md) and logs its URL.
+  void start_web(const io::ControlServer::Replies& replies);
   /// Puts on each port the hands its config starts with (--hand, "hand"). Throws
   /// std::invalid_argument naming where the hand was given and why it is refused.
   void start_hands();
@@ -88,6 +94,7 @@ class Emulator : public control::Target {
   std::vector<std::unique_ptr<Port>> ports_;
   std::unique_ptr<control::Api> api_;
   std::unique_ptr<io::ControlServer> control_;
+  std::unique_ptr<io::WebServer> web_;  // with --web
   bool shutting_down_ = false;
   bool catching_up_ = false;  // keep_motion_caught_up()'s event is scheduled
 };

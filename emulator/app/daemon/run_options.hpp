@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/config/bus_config.hpp"
+#include "app/config/web_address.hpp"
 #include "bus/late_reply_guard.hpp"
 #include "sim/sim_time.hpp"
 
@@ -31,6 +32,12 @@ struct RunOptions {
   std::optional<std::filesystem::path> pcap;
   /// The control API's socket (docs/control-api.md); default: default_control_path().
   std::optional<std::filesystem::path> control;
+  /// Serve the web interface here (docs/web.md); nullopt: no web interface.
+  std::optional<WebAddress> web;
+  /// Every web connection may only look: the web interface changes nothing (--web-read-only).
+  bool web_read_only = false;
+  /// The web interface's files (index.html, ...); default: shipped_web_dir().
+  std::filesystem::path web_root;
   /// A scenario file whose steps start with simulated time (docs/faults.md "Scenarios").
   std::optional<std::filesystem::path> scenario;
   /// Where hand.play and --hand look up a trajectory by name (docs/hands.md "Shipped

@@ -244,7 +244,7 @@ TEST_CASE("shutdown asks the target to stop, and help lists the commands", "[con
   CHECK(rig.target.shutdown_requested);
   CHECK(rig.api.handle(R"({"id":11,"cmd":"help"})") ==
         R"({"id":11,"ok":true,"result":["list","get","set","condition.set","servo.detach",)"
-        R"("servo.attach","servo.power_cycle","fault.add","fault.list","fault.remove",)"
+        R"("servo.attach","servo.power_cycle","servo.reboot","servo.factory_reset","fault.add","fault.list","fault.remove",)"
         R"("fault.clear","scenario.load","trace.subscribe","trace.unsubscribe","hand",)"
         R"("hand.play","hand.sweep","hand.move","hand.stop","physics",)"
         R"("physics.apply","clock.now","clock.step","stats","shutdown","help"]})");
@@ -306,6 +306,7 @@ TEST_CASE("A request without a known cmd is refused naming the commands", "[cont
   Rig rig;
   const std::string commands =
       "(commands: list, get, set, condition.set, servo.detach, servo.attach, servo.power_cycle, "
+      "servo.reboot, servo.factory_reset, "
       "fault.add, fault.list, fault.remove, fault.clear, scenario.load, trace.subscribe, "
       "trace.unsubscribe, hand, hand.play, hand.sweep, hand.move, hand.stop, physics, "
       "physics.apply, clock.now, clock.step, stats, shutdown, help)";
@@ -475,6 +476,40 @@ TEST_CASE("A power cycle reboots an attached servo and keeps its EEPROM", "[cont
   CHECK(rig.xm2.table().get("return_delay_time") == 0);
   rig.target.scheduler.advance_by(std::chrono::milliseconds(500));
   CHECK(rig.result(R"({"cmd":"servo.power_cycle","port":"dxl0","servo":2})")["booting"] == true);
+}
+
+TEST_CASE("servo.reboot and servo.factory_reset act as the instructions a tool sends",
+          "[control]") {
+  Rig rig;
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"led","value":1})");
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"return_delay_time","value":0})");
+  CHECK(rig.result(R"({"cmd":"servo.reboot","port":"dxl0","servo":2})") ==
+        json::parse(R"({"servo":2,"attached":true,"booting":true})"));
+  CHECK(rig.xm2.table().get("led") == 0);                // RAM back to its initial values
+  CHECK(rig.xm2.table().get("return_delay_time") == 0);  // EEPROM kept
+  CHECK(rig.error(R"({"cmd":"servo.reboot","port":"dxl0","servo":2})") ==
+        "servo 2 on dxl0 is booting: it hears no Reboot until it is up");
+  rig.target.scheduler.advance_by(std::chrono::seconds(1));
+  CHECK(rig.dxl0.link.deliveries().empty());  // nothing on the line
+  // Keeping the ID: everything else, EEPROM included, back to the factory's values.
+  rig.result(R"({"cmd":"set","port":"dxl0","servo":2,"item":"id","value":7})");
+  CHECK(rig.result(R"({"cmd":"servo.factory_reset","port":"dxl0","servo":7,"keep":"id"})") ==
+        json::parse(R"({"servo":7,"attached":true,"booting":true})"));
+  CHECK(rig.xm2.table().get("return_delay_time") == 250);
+  rig.target.scheduler.advance_by(std::chrono::seconds(1));
+  // Everything: the ID goes back to 1, as the servo's status would have said.
+  CHECK(rig.result(R"({"cmd":"servo.factory_reset","port":"dxl0","servo":7})")["servo"] == 1);
+  CHECK(rig.xm2.id() == 1);
+  CHECK(rig.error(R"({"cmd":"servo.factory_reset","port":"dxl0","servo":1})") ==
+        "2 servos on dxl0 have ID 1: the control API cannot tell them apart");
+  CHECK(rig.error(R"({"cmd":"servo.factory_reset","port":"dxl1","servo":3,"keep":"all"})") ==
+        R"("keep" must be "none", "id" or "id_baud", not "all")");
+  CHECK(rig.error(R"({"cmd":"servo.factory_reset","port":"dxl1","servo":3,"keep":"id"})") ==
+        "servo 3 on dxl1 does not speak Protocol 2.0, whose Factory Reset alone can keep the ID "
+        "or baud");
+  rig.result(R"({"cmd":"servo.detach","port":"dxl1","servo":3})");
+  CHECK(rig.error(R"({"cmd":"servo.reboot","port":"dxl1","servo":3})") ==
+        "servo 3 on dxl1 is detached: it hears no Reboot");
 }
 
 // --- faults ------------------------------------------------------------------------------------

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""What the web interface costs the daemon: CPU and reply lateness with the page open, graphing
+10 items at 10 ms with the packet view recording, against the same run without the page.
+
+Each round starts `dxlemu run --servo xm430-w350:1-10 --baud 1000000 --web 0` twice, once with
+the page open in headless Chromium and once without (the order alternates between rounds, so
+drift of the machine hits both alike). A DynamixelSDK client (tests/e2e/sdk_client.py: the SDK's
+own wire behaviour over pyserial) runs Sync Reads of Present Position of the 10 servos back to
+back for D seconds at 1 Mbit/s, as a control loop does. Measured per run:
+
+  CPU      = the daemon's run time (/proc/PID/task/*/schedstat) over those D seconds / D, % of a CPU
+  p50, p99 = the reply lateness the daemon measured (`stats`: lateness against the modelled time)
+  reads    = Sync Read round trips the client completed (the load is the same in both runs)
+  lost     = events the page lost as a slow client (its `dropped` count): 0 when it keeps up
+
+The page's own CPU (Chromium) is not the daemon's and is not counted; on a 2-core machine it
+competes with the daemon and the client for the cores, which is part of what the lateness shows.
+
+    python3 bench/web_cost.py --dxlemu build/emulator/dxlemu [--seconds 10] [--rounds 3]
+
+Markdown to stdout, progress to stderr.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import json
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "python"))
+sys.path.insert(0, str(ROOT / "tests" / "e2e"))
+
+from dxlemu.daemon import Emulator  # noqa: E402
+import sdk_client as sdk  # noqa: E402
+
+PRESENT_POSITION = 132
+SERVOS = list(range(1, 11))
+GRAPH_ITEMS = [(1, "present_position"), (2, "present_position"), (3, "present_position"),
+               (4, "present_position"), (5, "present_position"), (1, "present_velocity"),
+               (2, "present_current"), (3, "present_temperature"), (4, "present_input_voltage"),
+               (5, "moving")]
+
+
+def cpu_seconds(pid: int) -> float:
+    total = 0
+    for path in glob.glob(f"/proc/{pid}/task/*/schedstat"):
+        with open(path) as f:
+            total += int(f.read().split()[0])
+    return total / 1e9
+
+
+def open_page(url: str):
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1280,900"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    driver.get(url)
+    driver.execute_script("""
+        document.querySelector('#pkt-record') && (document.querySelector('#pkt-record').checked = true,
+          document.querySelector('#pkt-record').dispatchEvent(new Event('change')));""")
+    driver.find_element("css selector", '#view-tabs button[data-view="packets"]').click()
+    driver.find_element("css selector", '#view-tabs button[data-view="graph"]').click()
+    for servo, item in GRAPH_ITEMS:
+        driver.execute_script("window.dxlemu.graphAdd('dxl0', arguments[0], arguments[1])",
+                              servo, item)
+    return driver
+
+
+def one_run(binary: str, seconds: float, with_page: bool) -> dict:
+    with Emulator(binary=binary, servos=["xm430-w350:1-10"], baud=1000000,
+                  args=["--web", "0"]) as emulator:
+        driver = open_page(emulator.process.ready[0]["web"]) if with_page else None
+        try:
+            port = sdk.PortHandler(emulator.link)
+            port.openPort()
+            port.setBaudRate(1000000)
+            handler = sdk.Protocol2PacketHandler()
+            group = sdk.GroupSyncRead(port, handler, PRESENT_POSITION, 4)
+            for servo in SERVOS:
+                group.addParam(servo)
+            time.sleep(1.0)  # the page settles: subscriptions made, first draws done
+            pid = emulator.process.proc.pid
+            start_cpu, start = cpu_seconds(pid), time.monotonic()
+            reads = 0
+            while time.monotonic() - start < seconds:
+                if group.txRxPacket() == sdk.COMM_SUCCESS:
+                    reads += 1
+            elapsed = time.monotonic() - start
+            cpu = (cpu_seconds(pid) - start_cpu) / elapsed * 100
+            lateness = emulator.control.call("stats", port="dxl0")["dxl0"]["lateness"]
+            lost = driver.execute_script("return window.dxlemu.droppedEvents()") if driver else 0
+            port.closePort()
+        finally:
+            if driver:
+                driver.quit()
+    return {"cpu": cpu, "p50": lateness["p50_us"], "p99": lateness["p99_us"],
+            "max": lateness["max_us"], "reads": reads, "lost": lost}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--dxlemu", required=True)
+    parser.add_argument("--seconds", type=float, default=10)
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args()
+    runs: dict[bool, list[dict]] = {False: [], True: []}
+    for round_index in range(args.rounds):
+        order = (False, True) if round_index % 2 == 0 else (True, False)
+        for with_page in order:
+            print(f"round {round_index + 1}: {'with' if with_page else 'without'} the page",
+                  file=sys.stderr)
+            runs[with_page].append(one_run(args.dxlemu, args.seconds, with_page))
+    print(f"### {args.rounds} rounds of {args.seconds:g} s, 10 XM430-W350 at 1 Mbit/s, "
+          "Sync Read back to back\n")
+    print("| run | daemon CPU % | lateness p50 µs | p99 µs | max µs | Sync Reads | events lost |")
+    print("|---|---|---|---|---|---|---|")
+    for with_page in (False, True):
+        for index, run in enumerate(runs[with_page]):
+            print(f"| {'page' if with_page else 'no page'} {index + 1} | {run['cpu']:.1f} | "
+                  f"{run['p50']:.0f} | {run['p99']:.0f} | {run['max']:.0f} | {run['reads']} | "
+                  f"{run['lost']} |")
+    median = {w: {k: statistics.median(r[k] for r in runs[w]) for k in ("cpu", "p99", "p50")}
+              for w in (False, True)}
+    print()
+    print(f"Median: CPU {median[False]['cpu']:.1f} % without the page, "
+          f"{median[True]['cpu']:.1f} % with it "
+          f"({median[True]['cpu'] - median[False]['cpu']:+.1f} points); lateness p99 "
+          f"{median[False]['p99']:.0f} µs without, {median[True]['p99']:.0f} µs with "
+          f"({median[True]['p99'] - median[False]['p99']:+.0f} µs).")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
