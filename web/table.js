@@ -76,6 +76,10 @@ async function refresh() {
     return;
   }
   const servo = servos.servos().find((s) => s.port === target.port && s.id === target.servo);
+  // Factory Reset keeps the ID (and baud) only in Protocol 2.0, as on the wire.
+  const keep = $('factory-reset-keep');
+  for (const option of keep.options) option.disabled = option.value !== 'none' && servo?.protocol !== 2;
+  if (keep.selectedOptions[0]?.disabled) keep.value = 'none';
   $('btn-unplug').disabled = servo?.attached === false;
   $('btn-replug').disabled = servo?.attached !== false;
   let result;
@@ -109,10 +113,12 @@ async function act(cmd, args, done) {
     if (cmd === 'servo.factory_reset' || (cmd === 'set' && ['id', 'baud_rate', 'protocol_type'].includes(args.item))) {
       servos.forget();
     }
-    if (cmd === 'set' && args.item === 'id' && typeof result?.value === 'number') {
+    // A new ID (a set of `id`, a factory reset): follow the servo to it.
+    const newId = cmd === 'set' && args.item === 'id' ? result?.value : cmd === 'servo.factory_reset' ? result?.servo : undefined;
+    if (typeof newId === 'number') {
       await servos.refresh();
       fillSelect($('servo-select'), servos.servoOptions());
-      $('servo-select').value = `${target.port}/${result.value}`;
+      $('servo-select').value = `${target.port}/${newId}`;
     }
   } catch (error) {
     showMessage($('ct-message'), `${cmd} refused: ${error.message}`, false);
@@ -176,7 +182,8 @@ function init() {
   });
   $('btn-reboot').addEventListener('click', () => act('servo.reboot', {}, 'rebooted'));
   $('btn-factory-reset').addEventListener('click', () =>
-    act('servo.factory_reset', {keep: $('factory-reset-keep').value}, 'factory reset'));
+    act('servo.factory_reset', {keep: $('factory-reset-keep').value},
+        (result) => `factory reset: now ID ${result?.servo ?? '?'}, booting`));
   $('btn-power-cycle').addEventListener('click', () => act('servo.power_cycle', {}, 'power cycled: booting'));
   $('btn-unplug').addEventListener('click', () => act('servo.detach', {}, 'unplugged'));
   $('btn-replug').addEventListener('click', () => act('servo.attach', {}, 'plugged in: booting'));
