@@ -18,10 +18,12 @@ struct SummaryItem {
   std::array<std::string_view, 2> items;
   bool boolean;
 };
-constexpr std::array<SummaryItem, 6> kSummaryItems = {{
+constexpr std::array<SummaryItem, 8> kSummaryItems = {{
+    {"firmware_version", {"firmware_version", "firmware_major_version"}, false},
     {"torque", {"torque_enable", "torque_switch"}, true},
     {"present_position", {"present_position"}, false},
     {"present_temperature", {"present_temperature"}, false},
+    {"present_input_voltage", {"present_input_voltage", "present_voltage"}, false},
     {"hardware_error_status", {"hardware_error_status"}, false},
     {"servo_status", {"servo_status"}, false},
     {"moving", {"moving", "moving_flag"}, true},

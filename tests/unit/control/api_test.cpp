@@ -49,13 +49,16 @@ TEST_CASE("list shows every port with its facts and the key state of each servo"
       rig.api.handle(R"({"id":1,"cmd":"list"})") ==
       R"({"id":1,"ok":true,"result":{"ports":[)"
       R"({"name":"dxl0","pty":"/dev/pts/dxl0","servos":[)"
-      R"({"id":1,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
-      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false,"attached":true},)"
-      R"({"id":2,"model":"xm430-w350","protocol":2,"baud":57600,"torque":false,)"
-      R"("present_position":2048,"present_temperature":25,"hardware_error_status":0,"moving":false,"attached":true}]},)"
+      R"({"id":1,"model":"xm430-w350","protocol":2,"baud":57600,"firmware_version":45,)"
+      R"("torque":false,"present_position":2048,"present_temperature":25,)"
+      R"("present_input_voltage":127,"hardware_error_status":0,"moving":false,"attached":true},)"
+      R"({"id":2,"model":"xm430-w350","protocol":2,"baud":57600,"firmware_version":45,)"
+      R"("torque":false,"present_position":2048,"present_temperature":25,)"
+      R"("present_input_voltage":127,"hardware_error_status":0,"moving":false,"attached":true}]},)"
       R"({"name":"dxl1","pty":"/dev/pts/dxl1","servos":[)"
-      R"({"id":3,"model":"ax-12a","protocol":1,"baud":1000000,"torque":false,)"
-      R"("present_position":512,"present_temperature":25,"moving":false,"attached":true}]}]}})");
+      R"({"id":3,"model":"ax-12a","protocol":1,"baud":1000000,"firmware_version":1,)"
+      R"("torque":false,"present_position":512,"present_temperature":25,)"
+      R"("present_input_voltage":100,"moving":false,"attached":true}]}]}})");
 }
 
 TEST_CASE("get reads an item by key, or an address range as little-endian bytes", "[control]") {
