@@ -8,19 +8,19 @@ const kColumns = [
   ['port', 'port'],
   ['id', 'ID'],
   ['model', 'model'],
-  ['firmware', 'firmware', 'Firmware Version'],
+  ['firmware_version', 'firmware', 'Firmware Version (FEETECH: major.minor)'],
   ['protocol', 'protocol'],
   ['baud', 'baud'],
   ['torque', 'torque', 'Torque Enable (Torque switch on FEETECH)'],
   ['moving', 'moving'],
   ['present_position', 'position', 'Present Position'],
   ['present_temperature', 'temp (°C)', 'Present Temperature; red above its Temperature Limit'],
-  ['voltage', 'voltage (V)', 'Present Input Voltage'],
+  ['present_input_voltage', 'voltage (V)', 'Present Input Voltage (FEETECH: Present voltage), in volts'],
   ['hardware_error_status', 'hw error', 'Hardware Error Status'],
   ['servo_status', 'servo status', 'FEETECH Servo status (address 65)'],
   ['attached', 'attached', 'plugged in (servo.detach / servo.attach)'],
 ];
-const kAlwaysShown = new Set(['port', 'id', 'model', 'firmware', 'voltage']);
+const kAlwaysShown = new Set(['port', 'id', 'model', 'firmware_version', 'present_input_voltage']);
 let columns = [];
 const voltages = new Map();  // "port/id" -> volts
 
@@ -31,7 +31,7 @@ function format(key, value, servo) {
     case 'moving': case 'attached': case 'booting': return value ? 'yes' : 'no';
     case 'hardware_error_status': case 'servo_status':
       return typeof value === 'number' ? `0x${value.toString(16).toUpperCase().padStart(2, '0')}` : String(value);
-    case 'voltage': return typeof value === 'number' ? value.toFixed(1) : String(value);
+    case 'present_input_voltage': return typeof value === 'number' ? value.toFixed(1) : String(value);
     case 'protocol': return servo.protocol === 'feetech' ? 'FEETECH' : String(value);
     default: return typeof value === 'object' ? JSON.stringify(value) : String(value);
   }
@@ -64,7 +64,14 @@ function render() {
     }
     rows.delete(servo.key);
     const info = servos.infoNow(servo.port, servo.id, servo.model);
-    const values = {...servo, firmware: info?.firmware, voltage: voltages.get(servo.key)};
+    // `list` gives both raw (a daemon older than that: `get`); the cells show volts, and the
+    // FEETECH firmware as major.minor when the table says the minor.
+    const rawVoltage = servo.present_input_voltage;
+    const values = {
+      ...servo,
+      firmware_version: info?.firmware || servo.firmware_version,
+      present_input_voltage: typeof rawVoltage === 'number' ? rawVoltage * (info?.voltageScale ?? 0.1) : voltages.get(servo.key),
+    };
     columns.forEach(([key], i) => setText(row.cells[i], format(key, values[key], servo)));
     const limit = info?.temperatureLimit;
     const hot = typeof limit === 'number' && typeof servo.present_temperature === 'number' &&
@@ -88,8 +95,9 @@ function render() {
 
 async function poll() {
   await servos.refresh();
-  // The supply voltage is not in `list`: one `get` per servo, all in one message.
+  // A daemon whose `list` has no supply voltage: one `get` per servo, all in one message.
   const asks = servos.servos().map(async (servo) => {
+    if (servo.present_input_voltage !== undefined) return;
     const info = servos.infoNow(servo.port, servo.id, servo.model);
     if (!info?.voltageKey) return;
     const reply = await api.request({cmd: 'get', port: servo.port, servo: servo.id, item: info.voltageKey}, {quiet: true});
