@@ -15,7 +15,9 @@ std::uint16_t port_of(std::string_view text, std::string_view whole) {
   unsigned value = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || error != std::errc() || end != text.data() + text.size() || value > 65535) {
-    throw std::invalid_argument("--web " + std::string(whole) + ": the port must be a number from 0 to 65535, not \"" + std::string(text) + "\"");
+    throw std::invalid_argument("--web " + std::string(whole) +
+                                ": the port must be a number from 0 to 65535, not \"" +
+                                std::string(text) + "\"");
   }
   return static_cast<std::uint16_t>(value);
 }

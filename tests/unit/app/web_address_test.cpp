@@ -5,7 +5,7 @@
 
 using dxlemu::app::parse_web_address;
 
-TEST_CASE("--web takes a port alone and serves loopback", "[web_address]") {
+TEST_CASE("The web address may be a port alone and serves loopback", "[web_address]") {
   const auto a = parse_web_address("8080");
   CHECK(a.address == "127.0.0.1");
   CHECK(a.port == 8080);
@@ -13,7 +13,7 @@ TEST_CASE("--web takes a port alone and serves loopback", "[web_address]") {
   CHECK(parse_web_address("0").port == 0);
 }
 
-TEST_CASE("--web takes an address before the port", "[web_address]") {
+TEST_CASE("The web address may have an address before the port", "[web_address]") {
   const auto any = parse_web_address("0.0.0.0:9000");
   CHECK(any.address == "0.0.0.0");
   CHECK(any.port == 9000);
@@ -27,7 +27,7 @@ TEST_CASE("--web takes an address before the port", "[web_address]") {
   CHECK_FALSE(parse_web_address("[::]:8080").loopback());
 }
 
-TEST_CASE("--web refuses what is not an address and a port", "[web_address]") {
+TEST_CASE("A web address that is not an address and a port is refused", "[web_address]") {
   using Catch::Matchers::Contains;
   CHECK_THROWS_WITH(parse_web_address(""), Contains("port must be a number from 0 to 65535"));
   CHECK_THROWS_WITH(parse_web_address("65536"), Contains("not \"65536\""));

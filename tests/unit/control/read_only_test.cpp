@@ -67,7 +67,8 @@ const std::map<std::string, json>& looking() {
       {"trace.subscribe", {{"cmd", "trace.subscribe"}}},
       {"trace.unsubscribe", {{"cmd", "trace.unsubscribe"}}},
       {"sample.subscribe",
-       json::parse(R"({"cmd":"sample.subscribe","items":[{"servo":1,"item":"led"}],"period_ms":10})")},
+       json::parse(
+           R"({"cmd":"sample.subscribe","items":[{"servo":1,"item":"led"}],"period_ms":10})")},
       {"sample.unsubscribe", {{"cmd", "sample.unsubscribe"}}},
       {"physics.scene", {{"cmd", "physics.scene"}}},  // refused, but for want of a world
   };

@@ -54,7 +54,7 @@ TEST_CASE("table lists every item of the servo's model in address order, with it
   CHECK(rig.result(R"({"cmd":"table","port":"dxl1","servo":3})")["protocol"] == "feetech");
 }
 
-TEST_CASE("A table item carries its model-file facts, and its value scaled by a NUMBER [UNIT]",
+TEST_CASE("A table item carries its model-file facts, and its value scaled by its unit",
           "[control][table]") {
   Rig rig;
   CHECK(rig.item("dxl0", 1, "goal_position") ==

@@ -13,7 +13,7 @@ using dxlemu::control::scaled_unit;
 using dxlemu::control::scaled_value;
 using dxlemu::control::ScaledUnit;
 
-TEST_CASE("A unit NUMBER [UNIT] reads as a factor and a unit", "[control][unit_text]") {
+TEST_CASE("A unit NUMBER (UNIT in brackets) reads as a factor and a unit", "[control][unit_text]") {
   CHECK(scaled_unit("0.229 [rev/min]") == ScaledUnit{0.229, "rev/min"});
   CHECK(scaled_unit("58,000 [rev/min²]") == ScaledUnit{58000, "rev/min²"});
   CHECK(scaled_unit("1[pulse]") == ScaledUnit{1, "pulse"});

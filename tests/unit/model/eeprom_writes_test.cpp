@@ -28,7 +28,7 @@ model::ServoResponse run(Servo& servo, wire::Instruction instruction) {
 
 }  // namespace
 
-TEST_CASE("A Write of an EEPROM item counts once per Write, changed or not; RAM is not counted",
+TEST_CASE("A Write of an EEPROM item counts once per Write, changed or not, and RAM is not counted",
           "[model][eeprom_writes]") {
   Servo servo(test::shipped_model("xm430-w350"), 1);
   CHECK(writes(servo, "return_delay_time") == 0);
