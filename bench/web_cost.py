@@ -2,9 +2,11 @@
 """What the web interface costs the daemon: CPU and reply lateness with the page open, graphing
 10 items at 10 ms with the packet view recording, against the same run without the page.
 
-Each round starts `dxlemu run --servo xm430-w350:1-10 --baud 1000000 --web 0` twice, once with
-the page open in headless Chromium and once without (the order alternates between rounds, so
-drift of the machine hits both alike). A DynamixelSDK client (tests/e2e/sdk_client.py: the SDK's
+Each round starts `dxlemu run --servo xm430-w350:1-10 --baud 1000000 --web 0` three times: with
+no page; with the page's requests (trace.subscribe, and sample.subscribe of 10 items every 10 ms)
+made over its WebSocket by a small client that reads every message, which is the daemon's whole
+side of the page; and with the page itself open in headless Chromium, graphing and recording
+packets (the order rotates between rounds, so drift of the machine hits each alike). A DynamixelSDK client (tests/e2e/sdk_client.py: the SDK's
 own wire behaviour over pyserial) runs Sync Reads of Present Position of the 10 servos back to
 back for D seconds at 1 Mbit/s, as a control loop does. Measured per run:
 
@@ -13,10 +15,12 @@ back for D seconds at 1 Mbit/s, as a control loop does. Measured per run:
   reads    = Sync Read round trips the client completed (the load is the same in both runs)
   lost     = events the page lost as a slow client (its `dropped` count): 0 when it keeps up
 
-The page's own CPU (Chromium) is not the daemon's and is not counted; on a 2-core machine it
-competes with the daemon and the client for the cores, which is part of what the lateness shows.
+The browser's own CPU is not the daemon's and is not counted; on a 2-core machine it competes
+with the daemon and the client for the cores, which the third kind's lateness shows and the
+second's does not.
 
-    python3 bench/web_cost.py --dxlemu build/emulator/dxlemu [--seconds 10] [--rounds 3]
+    /usr/bin/python3 bench/web_cost.py --dxlemu build/emulator/dxlemu [--seconds 10] [--rounds 3]
+                                       [--no-browser]
 
 Markdown to stdout, progress to stderr.
 """
@@ -28,15 +32,18 @@ import json
 import os
 import statistics
 import sys
+import threading
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 sys.path.insert(0, str(ROOT / "tests" / "e2e"))
+sys.path.insert(0, str(ROOT / "tests" / "web"))
 
 from dxlemu.daemon import Emulator  # noqa: E402
 import sdk_client as sdk  # noqa: E402
+from websocket_client import WebSocket  # noqa: E402
 
 PRESENT_POSITION = 132
 SERVOS = list(range(1, 11))
@@ -74,10 +81,41 @@ def open_page(url: str):
     return driver
 
 
-def one_run(binary: str, seconds: float, with_page: bool) -> dict:
+class PageRequests:
+    """What the page asks of the daemon in those two views, over its WebSocket, with a thread
+    that takes every message as a browser would: the daemon's side of the page without the
+    browser's own CPU."""
+
+    def __init__(self, url: str):
+        self.ws = WebSocket(url)
+        self.ws.call({"id": 1, "cmd": "trace.subscribe"})
+        items = [{"port": "dxl0", "servo": servo, "item": item} for servo, item in GRAPH_ITEMS]
+        self.ws.call({"id": 2, "cmd": "sample.subscribe", "items": items, "period_ms": 10})
+        self.lost = 0
+        self.running = True
+        self.thread = threading.Thread(target=self._drain, daemon=True)
+        self.thread.start()
+
+    def _drain(self) -> None:
+        while self.running:
+            try:
+                for line in self.ws.message().split("\n"):
+                    if line.startswith('{"event":"dropped"'):
+                        self.lost = json.loads(line)["total"]
+            except (OSError, ConnectionError):
+                return
+
+    def close(self) -> None:
+        self.running = False
+        self.ws.close()
+
+
+def one_run(binary: str, seconds: float, client: str | None) -> dict:
     with Emulator(binary=binary, servos=["xm430-w350:1-10"], baud=1000000,
                   args=["--web", "0"]) as emulator:
-        driver = open_page(emulator.process.ready[0]["web"]) if with_page else None
+        url = emulator.process.ready[0]["web"]
+        driver = open_page(url) if client == "page" else None
+        socket_client = PageRequests(url) if client == "socket" else None
         try:
             port = sdk.PortHandler(emulator.link)
             port.openPort()
@@ -96,13 +134,19 @@ def one_run(binary: str, seconds: float, with_page: bool) -> dict:
             elapsed = time.monotonic() - start
             cpu = (cpu_seconds(pid) - start_cpu) / elapsed * 100
             lateness = emulator.control.call("stats", port="dxl0")["dxl0"]["lateness"]
-            lost = driver.execute_script("return window.dxlemu.droppedEvents()") if driver else 0
+            lost = (driver.execute_script("return window.dxlemu.droppedEvents()") if driver
+                    else socket_client.lost if socket_client else 0)
             port.closePort()
         finally:
             if driver:
                 driver.quit()
+            if socket_client:
+                socket_client.close()
     return {"cpu": cpu, "p50": lateness["p50_us"], "p99": lateness["p99_us"],
             "max": lateness["max_us"], "reads": reads, "lost": lost}
+
+
+CLIENTS = {None: "no page", "socket": "page's requests", "page": "page in Chromium"}
 
 
 def main() -> int:
@@ -110,31 +154,33 @@ def main() -> int:
     parser.add_argument("--dxlemu", required=True)
     parser.add_argument("--seconds", type=float, default=10)
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--no-browser", action="store_true",
+                        help="only the page's requests over a WebSocket, no Chromium")
     args = parser.parse_args()
-    runs: dict[bool, list[dict]] = {False: [], True: []}
+    clients = [None, "socket"] + ([] if args.no_browser else ["page"])
+    runs: dict = {client: [] for client in clients}
     for round_index in range(args.rounds):
-        order = (False, True) if round_index % 2 == 0 else (True, False)
-        for with_page in order:
-            print(f"round {round_index + 1}: {'with' if with_page else 'without'} the page",
-                  file=sys.stderr)
-            runs[with_page].append(one_run(args.dxlemu, args.seconds, with_page))
+        # Rotated each round, so that drift of the machine hits every kind alike.
+        order = clients[round_index % len(clients):] + clients[:round_index % len(clients)]
+        for client in order:
+            print(f"round {round_index + 1}: {CLIENTS[client]}", file=sys.stderr)
+            runs[client].append(one_run(args.dxlemu, args.seconds, client))
     print(f"### {args.rounds} rounds of {args.seconds:g} s, 10 XM430-W350 at 1 Mbit/s, "
           "Sync Read back to back\n")
     print("| run | daemon CPU % | lateness p50 µs | p99 µs | max µs | Sync Reads | events lost |")
     print("|---|---|---|---|---|---|---|")
-    for with_page in (False, True):
-        for index, run in enumerate(runs[with_page]):
-            print(f"| {'page' if with_page else 'no page'} {index + 1} | {run['cpu']:.1f} | "
-                  f"{run['p50']:.0f} | {run['p99']:.0f} | {run['max']:.0f} | {run['reads']} | "
-                  f"{run['lost']} |")
-    median = {w: {k: statistics.median(r[k] for r in runs[w]) for k in ("cpu", "p99", "p50")}
-              for w in (False, True)}
+    for client in clients:
+        for index, run in enumerate(runs[client]):
+            print(f"| {CLIENTS[client]} {index + 1} | {run['cpu']:.1f} | {run['p50']:.0f} | "
+                  f"{run['p99']:.0f} | {run['max']:.0f} | {run['reads']} | {run['lost']} |")
     print()
-    print(f"Median: CPU {median[False]['cpu']:.1f} % without the page, "
-          f"{median[True]['cpu']:.1f} % with it "
-          f"({median[True]['cpu'] - median[False]['cpu']:+.1f} points); lateness p99 "
-          f"{median[False]['p99']:.0f} µs without, {median[True]['p99']:.0f} µs with "
-          f"({median[True]['p99'] - median[False]['p99']:+.0f} µs).")
+    base = {k: statistics.median(r[k] for r in runs[None]) for k in ("cpu", "p99")}
+    for client in clients[1:]:
+        median = {k: statistics.median(r[k] for r in runs[client]) for k in ("cpu", "p99")}
+        print(f"- {CLIENTS[client]} against no page (medians): CPU {median['cpu']:.1f} % vs "
+              f"{base['cpu']:.1f} % ({median['cpu'] - base['cpu']:+.1f} points of a core), "
+              f"lateness p99 {median['p99']:.0f} µs vs {base['p99']:.0f} µs "
+              f"({median['p99'] - base['p99']:+.0f} µs).")
     return 0
 
 
