@@ -12,13 +12,12 @@
 #include <boost/asio/write.hpp>
 #include <cerrno>
 #include <chrono>
-#include <map>
 #include <optional>
 #include <system_error>
 #include <utility>
-#include <vector>
 
 #include "io/read_chunk.hpp"
+#include "io/session_table.hpp"
 #include "io/socket_file.hpp"
 
 namespace dxlemu::io {
@@ -61,8 +60,7 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
   void retry_accept_later();
   /// Closes `session` and reports it to on_close from a handler of its own (never re-entrantly
   /// from inside a handler or send()).
-  void close(Session& session);
-  void report_closed();
+  void close(Session& session) { sessions.close(session); }
   /// Closes everything (the server's destructor).
   void stop();
 
@@ -71,18 +69,15 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
   Handler handler;
   Replies replies;
   std::size_t max_line;
-  std::function<void(ControlSession&)> on_close;
   stream_protocol::acceptor acceptor;
   boost::asio::steady_timer retry_timer;
   FileIdentity file;  // the socket file we created, so that the destructor unlinks only our own
   std::uint64_t next_id = 1;
-  std::map<std::uint64_t, std::shared_ptr<Session>> open;
-  // Closed, with on_close not yet called.
-  std::vector<std::shared_ptr<Session>> closing;
+  SessionTable<Session, ControlSession> sessions;
   bool stopped = false;
 };
 
-/// One connection. Owned by the State's `open` map while open, and by its own pending I/O
+/// One connection. Owned by the State's session table while open, and by its own pending I/O
 /// handlers; it holds only a weak reference to the State, so handlers that complete after the
 /// server is gone do nothing.
 class ControlServer::State::Session final : public ControlSession,
@@ -134,7 +129,8 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
       replies(std::move(replies)),
       max_line(max_line),
       acceptor(io),
-      retry_timer(io) {
+      retry_timer(io),
+      sessions(io) {
   const std::string what = describe_socket(this->path);
   prepare_socket_path(this->path);
   boost::system::error_code ec;
@@ -172,7 +168,7 @@ void ControlServer::State::accept() {
     }
     const std::uint64_t id = self->next_id++;
     auto session = std::make_shared<Session>(weak, std::move(socket), id);
-    self->open.emplace(id, session);
+    self->sessions.add(session);
     session->start();
     self->accept();
   });
@@ -188,50 +184,14 @@ void ControlServer::State::retry_accept_later() {
   });
 }
 
-void ControlServer::State::close(Session& session) {
-  if (!session.shut()) {
-    return;
-  }
-  const auto found = open.find(session.id());
-  if (found == open.end()) {
-    return;
-  }
-  closing.push_back(std::move(found->second));
-  open.erase(found);
-  // on_close typically erases from a subscriber list that send() may be iterating right now (an
-  // event sent to a client that stopped reading): report from a handler of its own.
-  if (closing.size() == 1) {
-    boost::asio::post(io, [weak = weak_from_this()] {
-      const auto self = weak.lock();
-      if (self && !self->stopped) {
-        self->report_closed();
-      }
-    });
-  }
-}
-
-void ControlServer::State::report_closed() {
-  const auto closed = std::exchange(closing, {});
-  for (const auto& session : closed) {
-    if (on_close) {
-      on_close(*session);
-    }
-  }
-}
-
 void ControlServer::State::stop() {
   stopped = true;
   boost::system::error_code ignored;
   acceptor.close(ignored);
   retry_timer.cancel();
-  for (auto& [id, session] : open) {
-    session->shut();
-    closing.push_back(std::move(session));
-  }
-  open.clear();
   // Only our own socket file: if another server replaced it meanwhile, leave theirs alone.
   remove_if_same(path, file);
-  report_closed();
+  sessions.close_all();
 }
 
 bool ControlServer::State::Session::shut() {
@@ -390,11 +350,11 @@ const std::filesystem::path& ControlServer::path() const {
 }
 
 void ControlServer::on_close(std::function<void(ControlSession&)> callback) {
-  state_->on_close = std::move(callback);
+  state_->sessions.on_close(std::move(callback));
 }
 
 std::size_t ControlServer::sessions() const {
-  return state_->open.size();
+  return state_->sessions.size();
 }
 
 }  // namespace dxlemu::io

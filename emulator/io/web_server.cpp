@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/session_table.hpp"
 #include "io/web_access.hpp"
 #include "io/web_files.hpp"
 #include "io/web_socket_session.hpp"
@@ -84,7 +85,6 @@ struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_thi
                                              bool token_in_query, const tcp::endpoint& local) const;
   /// Closes an HTTP connection and forgets it.
   void forget(HttpConnection& connection);
-  void report_closed();
   /// Closes everything (the server's destructor).
   void stop();
 
@@ -92,7 +92,6 @@ struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_thi
   std::shared_ptr<const WebServerOptions> options;
   Handler handler;
   Replies replies;
-  std::function<void(WebSession&)> on_close;
   tcp::acceptor acceptor;
   boost::asio::steady_timer retry_timer;
   boost::asio::ip::address address;
@@ -105,9 +104,7 @@ struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_thi
   std::uint64_t next_session_id;
   std::uint64_t next_connection_id = 1;
   std::map<std::uint64_t, std::shared_ptr<HttpConnection>> connections;
-  std::map<std::uint64_t, std::shared_ptr<web::WebSocketSession>> open;
-  // Closed, with on_close not yet called.
-  std::vector<std::shared_ptr<web::WebSocketSession>> closing;
+  SessionTable<web::WebSocketSession, WebSession> sessions;
   std::uint64_t dropped = 0;
   bool stopped = false;
 };
@@ -162,7 +159,8 @@ WebServer::State::State(boost::asio::io_context& io, WebServerOptions options_in
       replies(std::move(replies)),
       acceptor(io),
       retry_timer(io),
-      next_session_id(options->first_session_id) {
+      next_session_id(options->first_session_id),
+      sessions(io) {
   if (options->token.empty()) {
     throw std::invalid_argument("the web server needs a token");
   }
@@ -228,7 +226,7 @@ void WebServer::State::accept() {
           self->retry_accept_later();
           return;
         }
-        if (self->connections.size() + self->open.size() >= self->options->max_connections) {
+        if (self->connections.size() + self->sessions.size() >= self->options->max_connections) {
           // A fresh socket's buffer takes the short answer whole; no need to wait for it.
           boost::system::error_code ignored;
           socket.non_blocking(true, ignored);
@@ -287,7 +285,7 @@ void WebServer::State::upgrade(HttpConnection& connection, beast::tcp_stream str
   const std::uint64_t id = next_session_id++;
   auto session =
       std::make_shared<web::WebSocketSession>(weak_from_this(), std::move(stream), id, options);
-  open.emplace(id, session);
+  sessions.add(session);
   session->start(request);
 }
 
@@ -297,34 +295,9 @@ void WebServer::State::forget(HttpConnection& connection) {
 }
 
 void WebServer::State::close(web::WebSocketSession& session) {
-  if (!session.shut()) {
-    return;
-  }
-  const auto found = open.find(session.id());
-  if (found == open.end()) {
-    return;
-  }
-  closing.push_back(std::move(found->second));
-  open.erase(found);
   // on_close typically erases from a subscriber list that send_event() may be iterating now:
-  // report from a handler of its own.
-  if (closing.size() == 1) {
-    boost::asio::post(io, [weak = weak_from_this()] {
-      const auto self = weak.lock();
-      if (self && !self->stopped) {
-        self->report_closed();
-      }
-    });
-  }
-}
-
-void WebServer::State::report_closed() {
-  const auto closed = std::exchange(closing, {});
-  for (const auto& session : closed) {
-    if (on_close) {
-      on_close(*session);
-    }
-  }
+  // the table reports from a handler of its own.
+  sessions.close(session);
 }
 
 void WebServer::State::stop() {
@@ -336,12 +309,7 @@ void WebServer::State::stop() {
     connection->shut();
   }
   connections.clear();
-  for (auto& [id, session] : open) {
-    session->shut();
-    closing.push_back(std::move(session));
-  }
-  open.clear();
-  report_closed();
+  sessions.close_all();
 }
 
 bool WebServer::State::HttpConnection::shut() {
@@ -618,15 +586,15 @@ bool WebServer::loopback() const {
 }
 
 void WebServer::on_close(std::function<void(WebSession&)> callback) {
-  state_->on_close = std::move(callback);
+  state_->sessions.on_close(std::move(callback));
 }
 
 std::size_t WebServer::sessions() const {
-  return state_->open.size();
+  return state_->sessions.size();
 }
 
 std::size_t WebServer::connections() const {
-  return state_->connections.size() + state_->open.size();
+  return state_->connections.size() + state_->sessions.size();
 }
 
 std::uint64_t WebServer::dropped_events() const {
