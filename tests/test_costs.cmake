@@ -53,6 +53,7 @@ set(DXLEMU_TEST_COSTS
   fuzz.bus_feetech.smoke 5.0
   fuzz.control.smoke 3.9
   fuzz.loaders.smoke 3.7
+  fuzz.web.smoke 5.0
   fuzz.wire_feetech.smoke 3.1
   fuzz.wire_v1.smoke 6.0
   fuzz.wire_v2.smoke 7.4

@@ -13,7 +13,7 @@
 namespace dxlemu::control {
 namespace {
 
-constexpr double kNsPerMs = 1e6;
+constexpr double kSampleNsPerMs = 1e6;
 constexpr std::array<std::string_view, 3> kItemFields = {"port", "servo", "item"};
 
 const Connection& client_of(const Args& args) {
@@ -35,7 +35,7 @@ sim::SimDuration period_of(const Args& args) {
   if (!std::isfinite(*period) || *period < kMinSamplePeriodMs || *period > kMaxSamplePeriodMs) {
     refuse("\"period_ms\" must be " + period_range() + ", not " + args.text("period_ms"));
   }
-  return sim::SimDuration(static_cast<std::int64_t>(std::llround(*period * kNsPerMs)));
+  return sim::SimDuration(static_cast<std::int64_t>(std::llround(*period * kSampleNsPerMs)));
 }
 
 /// The items[index] of a request: the servo found now, and the item as the result names it.
