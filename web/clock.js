@@ -10,6 +10,7 @@ const kHistory = 240;  // polls of lateness kept for the chart (a minute at 4 a 
 // The lines of the lateness chart: [key of `lateness`, label, colour (one port), dash (several)].
 const kLines = [['p50_us', 'median', '#2ca02c', []], ['p99_us', 'p99', '#ff7f0e', [6, 3]], ['max_us', 'max', '#d62728', [2, 3]]];
 let chart = null;
+let histogram = null;
 let mode = null;
 let history = [];  // [{t (simulated s), ports: {port: lateness}}]
 
@@ -80,8 +81,9 @@ function renderLateness(stats, seconds) {
   });
   setText($('lateness-summary'), ports.length ? summary.join('\n')
     : 'No lateness under manual timing: simulated time is not the wall clock\'s.');
-  $('lateness-chart').closest('.chart-box').hidden = !ports.length;
+  $('lateness-chart').closest('.chart-row').hidden = !ports.length;
   if (!ports.length || typeof Chart === 'undefined') return;
+  renderHistogram(stats, ports);
   if (history.length && seconds < history[history.length - 1].t) history = [];  // another daemon
   history.push({t: seconds, ports: Object.fromEntries(ports.map((port) => [port, stats[port].lateness]))});
   if (history.length > kHistory) history.splice(0, history.length - kHistory);
@@ -97,7 +99,8 @@ function renderLateness(stats, seconds) {
         interaction: {mode: 'nearest', axis: 'x', intersect: false},
         scales: {
           x: {type: 'linear', title: {display: true, text: 'simulated time (s)'}, ticks: {maxRotation: 0}},
-          y: {type: 'logarithmic', title: {display: true, text: 'late by (µs, since start)'}},
+          y: {type: 'logarithmic', title: {display: true, text: 'late by (µs)'},
+              ticks: {callback: (value) => (Number.isInteger(Math.log10(value)) ? fmt(value) : '')}},
         },
         plugins: {legend: {position: 'top', labels: {boxWidth: 12}}},
       },
@@ -142,6 +145,41 @@ function renderEepromWrites(stats) {
   body.replaceChildren(...rows.map((r) => el('tr', {class: r.writes > kHotWrites ? 'hot' : '', dataset: {port: r.port, servo: r.servo, item: r.item}},
     el('td', {}, r.port), el('td', {class: 'num'}, r.servo), el('td', {}, r.item), el('td', {class: 'num'}, r.writes))));
   if (!rows.length) body.append(el('tr', {class: 'empty'}, el('td', {colspan: '4'}, 'no EEPROM item written by the bus')));
+}
+
+// The replies by how late they went out: the `over` counts made into bands (up to 1 ms, 1 ~ 5
+// ms, ...), on a log scale (thousands on time, a few late).
+function renderHistogram(stats, ports) {
+  const labels = ['≤ 1', '1 ~ 5', '5 ~ 10', '10 ~ 34', '> 34'];
+  if (!histogram) {
+    histogram = new Chart($('lateness-histogram'), {
+      type: 'bar',
+      data: {labels, datasets: []},
+      options: {
+        animation: false,
+        responsive: true,
+        maintainAspectRatio: false,
+        scales: {
+          x: {title: {display: true, text: 'late by (ms)'}, ticks: {maxRotation: 0, autoSkip: false}},
+          y: {type: 'logarithmic', min: 0.5, title: {display: true, text: 'replies'},
+              ticks: {callback: (value) => (Number.isInteger(Math.log10(value)) ? fmt(value) : '')}},
+        },
+        plugins: {legend: {display: ports.length > 1, position: 'top', labels: {boxWidth: 12}}},
+      },
+    });
+  }
+  const datasets = ports.slice(0, kColours.length).map((port, i) => {
+    const l = stats[port].lateness;
+    const over = kBuckets.map((b) => l.over?.[b] ?? 0);
+    const counts = [l.deliveries - over[0], over[0] - over[1], over[1] - over[2], over[2] - over[3], over[3]];
+    return {label: port, data: counts.map((n) => (n > 0 ? n : null)), backgroundColor: kColours[i]};
+  });
+  const same = histogram.data.datasets.length === datasets.length &&
+               datasets.every((d, i) => histogram.data.datasets[i].label === d.label);
+  if (same) datasets.forEach((d, i) => { histogram.data.datasets[i].data = d.data; });
+  else histogram.data.datasets = datasets;
+  histogram.options.plugins.legend.display = ports.length > 1;
+  histogram.update('none');
 }
 
 async function poll() {

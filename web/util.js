@@ -94,7 +94,8 @@ export function fmt(value, digits = 3) {
   if (typeof value === 'boolean') return value ? 'yes' : 'no';
   if (typeof value !== 'number') return String(value);
   if (Number.isInteger(value)) return String(value);
-  return value.toFixed(digits);
+  const text = value.toFixed(digits);
+  return /^-0\.?0*$/.test(text) ? text.slice(1) : text;  // no "-0.0" for a tiny negative
 }
 
 /** A measured value for display: at most `digits` decimals, without trailing zeros
