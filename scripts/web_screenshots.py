@@ -154,7 +154,8 @@ def main():
     parser.add_argument("--link", help="the bus's PTY link (with --url; default: the one started)")
     parser.add_argument("--robot", default="so101-follower")
     parser.add_argument("--port", type=int, default=0, help="the --web port of the daemon started (0: a free one)")
-    parser.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "docs", "images"))
+    parser.add_argument("--out", default=os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "images")),
+                        help="where the PNGs go (default: docs/images)")
     args = parser.parse_args()
     args.dxlemu = args.dxlemu or args.binary
     if bool(args.url) == bool(args.dxlemu):

@@ -150,7 +150,7 @@ function renderEepromWrites(stats) {
 // The replies by how late they went out: the `over` counts made into bands (up to 1 ms, 1 ~ 5
 // ms, ...), on a log scale (thousands on time, a few late).
 function renderHistogram(stats, ports) {
-  const labels = ['≤ 1', '1 ~ 5', '5 ~ 10', '10 ~ 34', '> 34'];
+  const labels = ['≤1', '1–5', '5–10', '10–34', '>34'];
   if (!histogram) {
     histogram = new Chart($('lateness-histogram'), {
       type: 'bar',
