@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
 """Screenshots of the web page, one per view, for docs/web.md.
 
-Starts `dxlemu run --robot ROBOT --physics ROBOT --web PORT --timing fast`, drives its bus with a
-small client (so the Packets view has traffic), opens the page in headless Chromium at 1280x800,
-exercises each view briefly (a hand sweep moves the graph and the arm, a fault turns a row red)
-and saves docs/images/web-<view>.png. Fails (exit 1) when the browser's console shows an error.
+Starts `dxlemu run --robot ROBOT --physics ROBOT --web 0 --timing fast`, drives its bus with a
+small FEETECH client (so the Packets view has traffic and the stats count EEPROM writes), opens
+the page in headless Chromium at 1280x800, exercises each view (a hand sweep moves the graph and
+the arm, a fault turns a row red, a scenario runs) and saves docs/images/web-<view>.png.
+Exits 1 when the browser's console shows an error or a warning (other than SwiftShader's note on
+reading the 3D canvas back, which the screenshot itself causes), or when a step fails.
 
-Needs Debian's chromium, chromium-driver and python3-selenium:
-    python3 scripts/web_screenshots.py build/dev/emulator/dxlemu
+Needs Debian's chromium, chromium-driver and python3-selenium (in /usr/bin/python3):
+    python3 scripts/web_screenshots.py --dxlemu build/dev/emulator/dxlemu
     python3 scripts/web_screenshots.py --url 'http://127.0.0.1:8080/?token=...' --link /tmp/dxlemu-so101-follower
-      (the second form uses a daemon already running)
+      (the second form uses a daemon already running, started with the same --robot and --physics)
 """
 import argparse
 import json
@@ -25,7 +27,14 @@ import threading
 import time
 import tty
 
-from selenium import webdriver
+try:
+    from selenium import webdriver
+except ImportError:
+    # Debian's python3-selenium is in the system's Python, which another python3 on the PATH
+    # (pyenv, a virtualenv) does not see: run again there.
+    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
+    sys.exit("web_screenshots.py needs python3-selenium, chromium and chromium-driver (scripts/setup.sh)")
 from selenium.webdriver.chrome.options import Options
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
@@ -72,14 +81,29 @@ def feetech_packet(servo_id, instruction, params):
 
 
 class BusClient(threading.Thread):
-    """A controller polling the SO-101's six STS3215 (FEETECH): a Sync Read of Present Position
-    and a Read of Present Temperature, 50 times a second, so there are packets to show."""
+    """A controller on the SO-101's six STS3215 (FEETECH): first it sets servo 4's Return delay a
+    few times (EEPROM unlocked, then locked again: the Clock & stats view counts the writes), then
+    it polls: a Sync Read of Present position and a Read of Present temperature, 50 times a
+    second, so there are packets to show."""
+
+    LOCK_FLAG = 55
+    RETURN_DELAY = 7
 
     def __init__(self, link, baud):
         super().__init__(daemon=True)
         self.link = link
         self.baud = baud
         self.stop = threading.Event()
+
+    def exchange(self, fd, packet, expect, wait=0.05):
+        """Sends `packet`, then reads until `expect` bytes came back or `wait` s passed."""
+        os.write(fd, packet)
+        deadline = time.time() + wait
+        got = 0
+        while got < expect and (left := deadline - time.time()) > 0:
+            ready, _, _ = select.select([fd], [], [], left)
+            if ready:
+                got += len(os.read(fd, 4096))
 
     def run(self):
         fd = os.open(self.link, os.O_RDWR | os.O_NOCTTY)
@@ -89,18 +113,20 @@ class BusClient(threading.Thread):
         attributes[4] = attributes[5] = getattr(termios, f"B{self.baud}")
         termios.tcsetattr(fd, termios.TCSANOW, attributes)
         termios.tcflush(fd, termios.TCIOFLUSH)
+        status = 6  # bytes of a FEETECH status without parameters
+        self.exchange(fd, feetech_packet(4, 0x03, [self.LOCK_FLAG, 0]), status)
+        for delay in (0, 10, 20, 30, 0):
+            self.exchange(fd, feetech_packet(4, 0x03, [self.RETURN_DELAY, delay]), status)
+        self.exchange(fd, feetech_packet(4, 0x03, [self.LOCK_FLAG, 1]), status)
         sync_read = feetech_packet(0xFE, 0x82, [56, 2, 1, 2, 3, 4, 5, 6])
         n = 0
         while not self.stop.is_set():
-            os.write(fd, sync_read)
+            # One packet at a time, its replies read before the next: no collisions.
+            self.exchange(fd, sync_read, 6 * (status + 2))
             if n % 5 == 0:
-                os.write(fd, feetech_packet(1 + n // 5 % 6, 0x02, [63, 1]))
+                self.exchange(fd, feetech_packet(1 + n // 5 % 6, 0x02, [63, 1]), status + 1)
             n += 1
-            deadline = time.time() + 0.02
-            while (left := deadline - time.time()) > 0:
-                ready, _, _ = select.select([fd], [], [], left)
-                if ready:
-                    os.read(fd, 4096)
+            time.sleep(0.01)
         os.close(fd)
 
 
@@ -119,16 +145,21 @@ def make_driver():
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("dxlemu", nargs="?", help="the dxlemu binary (not with --url)")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     epilog="\n".join(__doc__.splitlines()[9:]))
+    parser.add_argument("--dxlemu", help="the dxlemu binary to start, e.g. build/dev/emulator/dxlemu")
+    parser.add_argument("binary", nargs="?", help=argparse.SUPPRESS)  # the older positional form
     parser.add_argument("--url", help="the page of a daemon already running (with its ?token=)")
     parser.add_argument("--link", help="the bus's PTY link (with --url; default: the one started)")
     parser.add_argument("--robot", default="so101-follower")
-    parser.add_argument("--port", type=int, default=8087, help="the --web port of the daemon started")
-    parser.add_argument("--out", default=os.path.join(os.path.dirname(__file__), "..", "docs", "images"))
+    parser.add_argument("--port", type=int, default=0, help="the --web port of the daemon started (0: a free one)")
+    parser.add_argument("--out", default=os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "images")),
+                        help="where the PNGs go (default: docs/images)")
     args = parser.parse_args()
-    if not args.url and not args.dxlemu:
-        parser.error("give the dxlemu binary, or --url of a running daemon")
+    args.dxlemu = args.dxlemu or args.binary
+    if bool(args.url) == bool(args.dxlemu):
+        parser.error("give --dxlemu BINARY, or --url of a running daemon (and --link)")
 
     process = None
     link = args.link or os.path.join(tempfile.gettempdir(), f"dxlemu-screenshots-{os.getpid()}")
@@ -163,40 +194,57 @@ def main():
                 out.write(driver.get_screenshot_as_png())
             print(path)
 
+        def choose(select_id, value):
+            WebDriverWait(driver, 10).until(lambda d: value in [
+                o.get_attribute("value") for o in d.find_elements(By.CSS_SELECTOR, f"#{select_id} option")])
+            Select(driver.find_element(By.ID, select_id)).select_by_value(value)
+
         bus = api({"cmd": "list"})["ports"][0]
         port = bus["name"]
         client = BusClient(link, bus["servos"][0]["baud"])
         client.start()
-        # Something to see: a hand sweeps every joint of the arm together.
+        # Something to see: a hand sweeps every joint of the arm together, as a person would.
         api({"cmd": "hand.sweep", "port": port, "order": "together", "speed_deg_s": 60})
 
-        show("graph")
-        for servo in (1, 2, 3):
-            Select(driver.find_element(By.ID, "graph-servo")).select_by_value(f"{port}/{servo}")
-            time.sleep(0.3)
-            Select(driver.find_element(By.ID, "graph-item")).select_by_value("present_position")
-            driver.find_element(By.ID, "graph-add").click()
-            time.sleep(0.2)
-        time.sleep(4)
-        save("graph")
-
+        # Faults: servo 3 overheats (its row turns red in the Bus view), servo 5's replies are
+        # lost now and then, a scenario runs its steps.
         show("faults")
-        Select(driver.find_element(By.ID, "fault-servo")).select_by_value(f"{port}/3")
+        choose("fault-servo", f"{port}/3")
         driver.find_element(By.CSS_SELECTOR, 'button[data-preset="overheat"]').click()
         time.sleep(0.3)
-        Select(driver.find_element(By.ID, "fault-servo")).select_by_value(f"{port}/5")
-        driver.find_element(By.CSS_SELECTOR, 'button[data-preset="drop_replies"]').click()
+        choose("fault-servo", f"{port}/5")
+        field = driver.find_element(By.ID, "fault-json")
+        field.clear()
+        field.send_keys(json.dumps({"action": "drop_reply", "match": {"port": port, "servos": [5]}, "probability": 0.2}))
+        driver.find_element(By.ID, "fault-add").click()
         time.sleep(0.3)
+        # A scenario still running when its screenshot is taken: a load on the shoulder now and
+        # then, a minute long.
+        scenario = {"steps": [{"at_ms": at, "cmd": "condition.set", "port": port, "servo": 2, "external_load": load}
+                              for at, load in ((0, 0.2), (4000, 0), (20000, 0.3), (40000, 0), (60000, 0.1))]}
+        text = '{"steps": [\n  ' + ",\n  ".join(json.dumps(step) for step in scenario["steps"]) + "\n]}"
+        driver.execute_script("arguments[0].value = arguments[1]", driver.find_element(By.ID, "scenario-json"), text)
         driver.find_element(By.ID, "scenario-load").click()
-        time.sleep(1.5)
-        save("faults")
+        time.sleep(0.3)
+
+        show("graph")
+        for servo in (1, 2, 3, 6):
+            choose("graph-servo", f"{port}/{servo}")
+            choose("graph-item", "present_position")
+            driver.find_element(By.ID, "graph-add").click()
+            time.sleep(0.2)
+        choose("graph-servo", f"{port}/2")
+        choose("graph-item", "present_load")
+        driver.find_element(By.ID, "graph-add").click()
+        time.sleep(5)
+        save("graph")
 
         show("bus")
         time.sleep(1)
         save("bus")
 
         show("table")
-        Select(driver.find_element(By.ID, "servo-select")).select_by_value(f"{port}/2")
+        choose("servo-select", f"{port}/2")
         time.sleep(1)
         save("table")
 
@@ -204,11 +252,16 @@ def main():
         time.sleep(2)
         save("packets")
 
-        show("clock")
+        show("faults")
         time.sleep(1)
+        save("faults")
+
+        show("clock")
+        time.sleep(5)
         save("clock")
 
-        api({"cmd": "hand.sweep", "port": port, "order": "together", "speed_deg_s": 60})
+        api({"cmd": "hand.move", "port": port, "joint": 2, "position": 30, "duration_s": 1})
+        api({"cmd": "hand.move", "port": port, "joint": 3, "position": -40, "duration_s": 1})
         show("physics")
         time.sleep(3)
         save("physics")
@@ -222,6 +275,7 @@ def main():
         driver.quit()
         if client:
             client.stop.set()
+            client.join(5)
         if process:
             process.send_signal(signal.SIGTERM)
             try:

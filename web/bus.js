@@ -21,6 +21,7 @@ const kColumns = [
   ['attached', 'attached', 'plugged in (servo.detach / servo.attach)'],
 ];
 const kAlwaysShown = new Set(['port', 'id', 'model', 'firmware_version', 'present_input_voltage']);
+const kNumeric = new Set(['id', 'baud', 'present_position', 'present_temperature', 'present_input_voltage']);
 let columns = [];
 const voltages = new Map();  // "port/id" -> volts
 
@@ -46,23 +47,51 @@ function layout(all) {
   if (JSON.stringify(chosen) === JSON.stringify(columns)) return;
   columns = chosen;
   const head = $('bus-table').tHead.rows[0];
-  head.replaceChildren(...columns.map(([key, label, title]) => el('th', {dataset: {key}, title}, label)));
+  head.replaceChildren(...columns.map(([key, label, title]) => el('th', {dataset: {key}, title, class: kNumeric.has(key) ? 'num' : ''}, label)));
   $('bus-table').tBodies[0].replaceChildren();
+}
+
+// One line per port: its PTY, the link a client opens, how many servos.
+function renderPorts() {
+  const ports = servos.list().ports ?? [];
+  const text = ports.map((port) => {
+    const count = (port.servos ?? []).length;
+    const where = [port.link && `link ${port.link}`, port.pty && `PTY ${port.pty}`].filter(Boolean).join(', ');
+    return `${port.name}: ${count} servo${count === 1 ? '' : 's'}${where ? ` on ${where}` : ''}`;
+  });
+  setText($('bus-ports'), text.join('   ·   '));
 }
 
 function render() {
   const all = servos.servos();
   layout(all);
+  renderPorts();
   const body = $('bus-table').tBodies[0];
-  const rows = new Map([...body.rows].map((row) => [`${row.dataset.port}/${row.dataset.servo}`, row]));
+  // Rows by port, ID and which of the servos of that ID (after a factory reset or a new ID two
+  // servos may share one: both are listed, in red).
+  const rowKey = (port, id, nth) => `${port}/${id}#${nth}`;
+  const rows = new Map();
+  const seen = new Map();
+  for (const row of body.rows) {
+    const key = `${row.dataset.port}/${row.dataset.servo}`;
+    const nth = seen.get(key) ?? 0;
+    seen.set(key, nth + 1);
+    rows.set(rowKey(row.dataset.port, row.dataset.servo, nth), row);
+  }
+  const shared = new Map();
+  for (const servo of all) shared.set(servo.key, (shared.get(servo.key) ?? 0) + 1);
+  seen.clear();
   const wanted = [];
   for (const servo of all) {
-    let row = rows.get(servo.key);
+    const nth = seen.get(servo.key) ?? 0;
+    seen.set(servo.key, nth + 1);
+    const key = rowKey(servo.port, servo.id, nth);
+    let row = rows.get(key);
     if (!row || row.cells.length !== columns.length) {
       row = el('tr', {dataset: {port: servo.port, servo: String(servo.id)}},
-               ...columns.map(([key]) => el('td', {dataset: {key}})));
+               ...columns.map(([column]) => el('td', {dataset: {key: column}, class: kNumeric.has(column) ? 'num' : ''})));
     }
-    rows.delete(servo.key);
+    rows.delete(key);
     const info = servos.infoNow(servo.port, servo.id, servo.model);
     // `list` gives both raw (a daemon older than that: `get`); the cells show volts, and the
     // FEETECH firmware as major.minor when the table says the minor.
@@ -77,7 +106,9 @@ function render() {
     const hot = typeof limit === 'number' && typeof servo.present_temperature === 'number' &&
                 servo.present_temperature > limit;
     const errorBits = (servo.hardware_error_status ?? 0) !== 0 || (servo.servo_status ?? 0) !== 0;
-    row.classList.toggle('alarm', errorBits || servo.attached === false || hot);
+    const conflict = shared.get(servo.key) > 1;
+    row.classList.toggle('alarm', errorBits || servo.attached === false || hot || conflict);
+    row.title = conflict ? `${shared.get(servo.key)} servos on ${servo.port} share ID ${servo.id}: the controller cannot tell them apart` : '';
     const temperature = row.querySelector('td[data-key="present_temperature"]');
     if (temperature) {
       temperature.classList.toggle('hot', hot);

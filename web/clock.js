@@ -1,13 +1,18 @@
 // Clock & statistics view: simulated time, clock.step under manual timing, the bus counters
 // of `stats`, how late replies went out, and EEPROM writes per item.
 import * as api from './api.js';
-import {$, el, fmt, setText, showMessage} from './util.js';
+import {$, el, fmt, num, setText, showMessage} from './util.js';
 
 const kBuckets = ['1ms', '5ms', '10ms', '34ms'];
 const kColours = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b'];
 const kHotWrites = 3;  // EEPROM items written more often than this are highlighted
+const kHistory = 240;  // polls of lateness kept for the chart (a minute at 4 a second)
+// The lines of the lateness chart: [key of `lateness`, label, colour (one port), dash (several)].
+const kLines = [['p50_us', 'median', '#2ca02c', []], ['p99_us', 'p99', '#ff7f0e', [6, 3]], ['max_us', 'max', '#d62728', [2, 3]]];
 let chart = null;
+let histogram = null;
 let mode = null;
+let history = [];  // [{t (simulated s), ports: {port: lateness}}]
 
 function timingOf(clock, stats) {
   // A daemon that says its timing in clock.now is believed; otherwise `stats` has `lateness`
@@ -25,7 +30,7 @@ function formatTime(ms) {
   const h = Math.floor(s / 3600);
   const m = Math.floor((s % 3600) / 60);
   const rest = (s % 60).toFixed(3).padStart(6, '0');
-  return `${h ? `${h}:` : ''}${String(m).padStart(h ? 2 : 1, '0')}:${rest}  (${fmt(ms, 3)} ms)`;
+  return `${h ? `${h}:` : ''}${String(m).padStart(h ? 2 : 1, '0')}:${rest} (${num(ms, 3)} ms)`;
 }
 
 // The counters of one port, flattened: "lateness.p50_us", "lateness.over.1ms", ...
@@ -62,33 +67,62 @@ function renderStats(stats) {
   }
 }
 
-function renderLateness(stats) {
+// How late replies went out (`stats` lateness, realtime and fast timing): a line each for the
+// median, p99 and maximum since start, per port, against simulated time, on a log scale (a
+// median of microseconds and a maximum of milliseconds on one chart); the counts past 1, 5, 10
+// and 34 ms in the summary.
+function renderLateness(stats, seconds) {
   const ports = Object.keys(stats).filter((port) => stats[port]?.lateness);
   const summary = ports.map((port) => {
     const l = stats[port].lateness;
-    return `${port}: ${l.deliveries} deliveries, p50 ${fmt(l.p50_us, 1)} µs, p99 ${fmt(l.p99_us, 1)} µs, ` +
-           `max ${fmt(l.max_us, 1)} µs, dropped ${l.dropped ?? 0} (limit ${l.drop_after_ms} ms)`;
+    const over = kBuckets.map((b) => `> ${b.replace('ms', ' ms')}: ${l.over?.[b] ?? 0}`).join(', ');
+    return `${port}: ${l.deliveries} deliveries; median ${fmt(l.p50_us, 1)} µs, p99 ${fmt(l.p99_us, 1)} µs, ` +
+           `max ${fmt(l.max_us, 1)} µs; ${over}; dropped ${l.dropped ?? 0} (limit ${l.drop_after_ms} ms)`;
   });
-  setText($('lateness-summary'), ports.length ? summary.join('\n') : 'no lateness under manual timing');
-  if (typeof Chart === 'undefined') return;
+  setText($('lateness-summary'), ports.length ? summary.join('\n')
+    : 'No lateness under manual timing: simulated time is not the wall clock\'s.');
+  $('lateness-chart').closest('.chart-row').hidden = !ports.length;
+  if (!ports.length || typeof Chart === 'undefined') return;
+  renderHistogram(stats, ports);
+  if (history.length && seconds < history[history.length - 1].t) history = [];  // another daemon
+  history.push({t: seconds, ports: Object.fromEntries(ports.map((port) => [port, stats[port].lateness]))});
+  if (history.length > kHistory) history.splice(0, history.length - kHistory);
   if (!chart) {
     chart = new Chart($('lateness-chart'), {
-      type: 'bar',
-      data: {labels: kBuckets.map((b) => `> ${b.replace('ms', ' ms')}`), datasets: []},
+      type: 'line',
+      data: {datasets: []},
       options: {
         animation: false,
         responsive: true,
         maintainAspectRatio: false,
-        scales: {y: {beginAtZero: true, title: {display: true, text: 'replies'}, ticks: {precision: 0}}},
+        parsing: false,
+        interaction: {mode: 'nearest', axis: 'x', intersect: false},
+        scales: {
+          x: {type: 'linear', title: {display: true, text: 'simulated time (s)'}, ticks: {maxRotation: 0}},
+          y: {type: 'logarithmic', title: {display: true, text: 'late by (µs)'},
+              ticks: {callback: (value) => (Number.isInteger(Math.log10(value)) ? fmt(value) : '')}},
+        },
         plugins: {legend: {position: 'top', labels: {boxWidth: 12}}},
       },
     });
   }
-  const datasets = ports.map((port, i) => ({
-    label: port,
-    data: kBuckets.map((b) => stats[port].lateness.over?.[b] ?? 0),
-    backgroundColor: kColours[i % kColours.length],
-  }));
+  const datasets = [];
+  ports.slice(0, kColours.length).forEach((port, i) => {
+    for (const [key, name, colour, dash] of kLines) {
+      const several = ports.length > 1;
+      datasets.push({
+        label: several ? `${port} ${name}` : name,
+        // Nothing before the first reply; a log scale has no 0: less than 1 µs shows as 1.
+        data: history.filter((h) => h.ports[port]?.deliveries > 0)
+          .map((h) => ({x: h.t, y: Math.max(1, h.ports[port][key] ?? 0)})),
+        borderColor: several ? kColours[i] : colour,
+        backgroundColor: several ? kColours[i] : colour,
+        borderDash: several ? dash : [],
+        borderWidth: 1.5,
+        pointRadius: 0,
+      });
+    }
+  });
   const same = chart.data.datasets.length === datasets.length &&
                datasets.every((d, i) => chart.data.datasets[i].label === d.label);
   if (same) datasets.forEach((d, i) => { chart.data.datasets[i].data = d.data; });
@@ -113,6 +147,41 @@ function renderEepromWrites(stats) {
   if (!rows.length) body.append(el('tr', {class: 'empty'}, el('td', {colspan: '4'}, 'no EEPROM item written by the bus')));
 }
 
+// The replies by how late they went out: the `over` counts made into bands (up to 1 ms, 1 ~ 5
+// ms, ...), on a log scale (thousands on time, a few late).
+function renderHistogram(stats, ports) {
+  const labels = ['≤1', '1–5', '5–10', '10–34', '>34'];
+  if (!histogram) {
+    histogram = new Chart($('lateness-histogram'), {
+      type: 'bar',
+      data: {labels, datasets: []},
+      options: {
+        animation: false,
+        responsive: true,
+        maintainAspectRatio: false,
+        scales: {
+          x: {title: {display: true, text: 'late by (ms)'}, ticks: {maxRotation: 0, autoSkip: false}},
+          y: {type: 'logarithmic', min: 0.5, title: {display: true, text: 'replies'},
+              ticks: {callback: (value) => (Number.isInteger(Math.log10(value)) ? fmt(value) : '')}},
+        },
+        plugins: {legend: {display: ports.length > 1, position: 'top', labels: {boxWidth: 12}}},
+      },
+    });
+  }
+  const datasets = ports.slice(0, kColours.length).map((port, i) => {
+    const l = stats[port].lateness;
+    const over = kBuckets.map((b) => l.over?.[b] ?? 0);
+    const counts = [l.deliveries - over[0], over[0] - over[1], over[1] - over[2], over[2] - over[3], over[3]];
+    return {label: port, data: counts.map((n) => (n > 0 ? n : null)), backgroundColor: kColours[i]};
+  });
+  const same = histogram.data.datasets.length === datasets.length &&
+               datasets.every((d, i) => histogram.data.datasets[i].label === d.label);
+  if (same) datasets.forEach((d, i) => { histogram.data.datasets[i].data = d.data; });
+  else histogram.data.datasets = datasets;
+  histogram.options.plugins.legend.display = ports.length > 1;
+  histogram.update('none');
+}
+
 async function poll() {
   const [clock, stats] = await Promise.all([api.call('clock.now'), api.call('stats')]);
   setText($('clock-now'), formatTime(clock.ms));
@@ -123,7 +192,7 @@ async function poll() {
   $('clock-step-ms').disabled = !manual;
   $('clock-step').title = manual ? 'clock.step: move simulated time forward' : 'clock.step needs --timing manual';
   renderStats(stats);
-  renderLateness(stats);
+  renderLateness(stats, clock.ms / 1000);
   renderEepromWrites(stats);
 }
 

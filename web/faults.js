@@ -2,7 +2,7 @@
 // (condition.set) and scenarios.
 import * as api from './api.js';
 import * as servos from './servos.js';
-import {$, el, fillSelect, parseServoKey, setText, showMessage} from './util.js';
+import {$, el, fillSelect, fmt, num, parseServoKey, setText, showMessage} from './util.js';
 
 // Each preset: a title saying what it does, and the request(s) it makes for {port, servo}.
 const kPresets = {
@@ -75,7 +75,12 @@ async function applyPreset(name) {
       showMessage($('fault-message'), reply.error, false);
       return;
     }
-    said.push(req.cmd === 'fault.add' ? `rule ${reply.result.rule} added` : `${req.cmd}: ${JSON.stringify(reply.result)}`);
+    if (req.cmd === 'fault.add') said.push(`rule ${reply.result.rule} added`);
+    else if (req.cmd === 'condition.set') {
+      said.push(`supply ${num(reply.result.supply_voltage)} V on ${t.port}/${t.servo}` +
+                (minVoltage !== null ? ` (its low voltage limit: ${num(minVoltage)} V)` : ''));
+    } else if (req.cmd === 'servo.detach') said.push(`${t.port}/${t.servo} unplugged`);
+    else said.push(`${req.cmd}: ${JSON.stringify(reply.result)}`);
   }
   showMessage($('fault-message'), `${name}: ${said.join('; ')}`, true);
   await pollRules();
@@ -174,8 +179,8 @@ function renderScenarios(list) {
     el('td', {class: 'num'}, s.steps),
     el('td', {class: 'num'}, s.done),
     el('td', {class: 'num'}, s.failed ?? 0),
-    el('td', {class: 'num'}, s.next_at_ms === null || s.next_at_ms === undefined ? '—' : s.next_at_ms),
-    el('td', {class: 'num'}, s.loaded_at_ms ?? ''))));
+    el('td', {class: 'num'}, s.next_at_ms === null || s.next_at_ms === undefined ? '—' : fmt(s.next_at_ms, 1)),
+    el('td', {class: 'num'}, typeof s.loaded_at_ms === 'number' ? fmt(s.loaded_at_ms, 1) : ''))));
   if (!list.length) body.append(el('tr', {class: 'empty'}, el('td', {colspan: '8'}, 'no scenarios loaded')));
 }
 

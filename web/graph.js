@@ -87,11 +87,47 @@ function onSample(event) {
   dirty = true;
 }
 
+// The time axis's labels, but none on a scrolling window's left edge (an odd time, closer to the
+// next label than the labels are to each other).
+function timeTick(value, index, ticks) {
+  if (index === 0 && ticks.length > 2 && ticks[1].value - value < 0.999 * (ticks[2].value - ticks[1].value)) return '';
+  return Chart.Ticks.formatters.numeric.call(this, value, index, ticks);
+}
+
+// The y axes: one per item key (the present_position of three servos share one), stacked one
+// above the other when there are several, so that a temperature is not a flat line under a
+// position's thousands.
+function axesFor(shown) {
+  const keys = [...new Set(shown.map((item) => item.item))];
+  const scales = {
+    x: {type: 'linear', title: {display: true, text: 'simulated time (s)'}, ticks: {maxRotation: 0, callback: timeTick}},
+  };
+  keys.forEach((key, index) => {
+    scales[`y${index}`] = {
+      type: 'linear',
+      position: 'left',
+      stack: keys.length > 1 ? 'items' : undefined,
+      stackWeight: 1,
+      weight: -index,
+      offset: keys.length > 1,
+      grace: '5%',
+      title: {display: true, text: keys.length > 1 ? key : `${key} (as get reads it)`},
+      ticks: {maxTicksLimit: keys.length > 2 ? 4 : 8},
+    };
+  });
+  // (A stack on the left is laid out from the top by decreasing `weight`: the first item's on top.)
+  return {scales, axisOf: (item) => `y${keys.indexOf(item.item)}`};
+}
+
 function resetChart() {
   if (!chart) return;
-  chart.data.datasets = (subscribed?.items ?? []).map((item, index) => ({
+  const shown = subscribed?.items ?? [];
+  const {scales, axisOf} = axesFor(shown);
+  chart.options.scales = scales;
+  chart.data.datasets = shown.map((item, index) => ({
     label: label(item),
     data: [],
+    yAxisID: axisOf(item),
     borderColor: kColours[index % kColours.length],
     backgroundColor: kColours[index % kColours.length],
     borderWidth: 1.5,
@@ -104,16 +140,21 @@ function resetChart() {
 function draw() {
   if (!chart || !dirty || !visible || paused) return;
   dirty = false;
+  const span = windowSeconds();
   const last = rows.length ? rows[rows.length - 1].t : 0;
-  const from = last - windowSeconds();
+  const from = last - span;
   let first = rows.length;
   while (first > 0 && rows[first - 1].t >= from) first--;
   const shown = rows.slice(first);
   chart.data.datasets.forEach((dataset, index) => {
     dataset.data = shown.map((row) => ({x: row.t, y: typeof row.values[index] === 'number' ? row.values[index] : null}));
   });
-  chart.options.scales.x.min = Math.max(0, from);
-  chart.options.scales.x.max = Math.max(last, windowSeconds());
+  // The trace starts at the left edge and grows to the right until the window is full, then scrolls.
+  // (From a round time: the axis's first label is its minimum.)
+  const step = 10 ** Math.floor(Math.log10(span / 2));
+  const start = rows.length ? Math.max(Math.floor(rows[0].t / step) * step, from) : 0;
+  chart.options.scales.x.min = start;
+  chart.options.scales.x.max = Math.max(last, start + span);
   chart.update('none');
   $('graph-count').textContent = `${rows.length} samples`;
 }
@@ -144,10 +185,7 @@ function makeChart() {
       responsive: true,
       maintainAspectRatio: false,
       interaction: {mode: 'nearest', axis: 'x', intersect: false},
-      scales: {
-        x: {type: 'linear', title: {display: true, text: 'simulated time (s)'}, ticks: {maxRotation: 0}},
-        y: {type: 'linear', title: {display: true, text: 'value (as get reads it)'}},
-      },
+      scales: axesFor([]).scales,
       plugins: {legend: {position: 'top', labels: {boxWidth: 12}}, tooltip: {enabled: true}},
     },
   });

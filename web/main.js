@@ -43,7 +43,8 @@ async function pollLoop() {
       try {
         await view.poll();
       } catch (error) {
-        if (error.message !== 'disconnected') console.warn(`dxlemu: ${view.name} view:`, error);
+        // A refusal is already in the status bar (the "refusal" event); anything else is a bug.
+        if (error.message !== 'disconnected' && !(error instanceof api.ApiError)) console.warn(`dxlemu: ${view.name} view:`, error);
       }
     }
     const wait = Math.max(0, (view.periodMs ?? 250) - (performance.now() - started));
@@ -71,6 +72,7 @@ function setupStatus() {
   api.on('open', async () => {
     setStatus(true);
     servos.forget();
+    probeReadOnly();
     try {
       await servos.refresh();
     } catch (error) {
@@ -89,13 +91,30 @@ function setupStatus() {
   api.on('refusal', ({error, cmd}) => {
     setText(lastError, `${cmd}: ${error}`);
     lastError.title = `the last request the daemon refused (${new Date().toLocaleTimeString()})`;
-    if (/^read-only:/.test(error)) {
-      $('read-only-badge').hidden = false;
-      $('read-only-badge').title = error;
-    }
+    if (kReadOnly.test(error)) showReadOnly(error);
   });
   lastError.addEventListener('click', () => setText(lastError, ''));
   api.on('dropped', () => setText($('dropped-count'), api.droppedEvents()));
+}
+
+const kReadOnly = /^read-only:/;
+
+function showReadOnly(reason) {
+  $('read-only-badge').hidden = false;
+  $('read-only-badge').title = reason;
+  document.body.classList.add('read-only');
+}
+
+// Whether this connection may change anything: a clock.step of 0 ms changes nothing anywhere (it
+// is refused as not positive, or as needing manual timing), but a read-only connection refuses
+// it as read-only first.
+async function probeReadOnly() {
+  try {
+    const reply = await api.request({cmd: 'clock.step', ms: 0}, {quiet: true});
+    if (!reply.ok && kReadOnly.test(reply.error ?? '')) showReadOnly(reply.error);
+  } catch (error) {
+    // Disconnected: asked again on the next connection.
+  }
 }
 
 // Shows or hides the Physics tab (the physics view knows whether the daemon has a world).

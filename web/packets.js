@@ -8,6 +8,7 @@ import {$, download, escapeHtml, fillSelect, stamp} from './util.js';
 const kKeep = 10000;   // records kept for the downloads
 const kShow = 500;     // rows drawn
 const kRenderMs = 250; // at most 4 redraws a second
+const kLateUs = 1000;  // a reply later than this (µs) against its modelled time is highlighted
 
 let records = [];      // {record (without "event"), parsed}
 let visible = false;
@@ -105,7 +106,7 @@ function render() {
     return `<tr class="${classes}" title="${escapeHtml(record.hex ?? '')}"><td class="num">${t}</td><td>${escapeHtml(record.port ?? '')}</td>` +
       `<td>${escapeHtml(record.dir ?? '')}</td><td class="num">${escapeHtml(parsed.id)}</td><td>${escapeHtml(parsed.instruction)}</td>` +
       `<td class="fields">${escapeHtml(parsed.fields)}</td><td>${escapeHtml(parsed.error)}</td>` +
-      `<td class="num">${record.late_us !== undefined ? escapeHtml(Math.round(record.late_us)) : ''}</td></tr>`;
+      `<td class="num${record.late_us > kLateUs ? ' late' : ''}">${typeof record.late_us === 'number' ? escapeHtml(Math.round(record.late_us)) : ''}</td></tr>`;
   }).join('');
   $('packets-table').tBodies[0].innerHTML = html;
   if (atBottom) box.scrollTop = box.scrollHeight;

@@ -3,7 +3,7 @@
 // `hand.move`, and pushes with `physics.apply`.
 import * as api from './api.js';
 import * as servos from './servos.js';
-import {$, el, fillSelect, fmt, setText, showMessage} from './util.js';
+import {$, el, fillSelect, fmt, num, setText, showMessage} from './util.js';
 
 const kRadToDeg = 180 / Math.PI;
 let context = null;
@@ -104,13 +104,17 @@ function buildScene(result) {
     view3d = {renderer, camera, controls, scene: null, geoms: [], signature: ''};
   }
   const scene = new THREE.Scene();
-  const sky = new THREE.HemisphereLight(0xffffff, 0x667788, 0.8);
+  // A soft sky and a key light from the camera's side, a weaker one from behind: enough shading
+  // that a white arm is not a flat silhouette.
+  const sky = new THREE.HemisphereLight(0xffffff, 0x556677, 0.55);
   sky.position.set(0, 0, 1);
   scene.add(sky);
-  const sun = new THREE.DirectionalLight(0xffffff, 0.7);
-  sun.position.set(1, -1.5, 2);
+  const sun = new THREE.DirectionalLight(0xffffff, 0.75);
+  sun.position.set(1, -2, 2.5);
   scene.add(sun);
-  scene.add(new THREE.AxesHelper(0.05));
+  const fill = new THREE.DirectionalLight(0xffffff, 0.25);
+  fill.position.set(-1.5, 1, 0.5);
+  scene.add(fill);
   // How big the world is, from the geoms that are not planes: for the planes and the camera.
   const box = new THREE.Box3();
   for (const geom of result.geoms) {
@@ -123,6 +127,22 @@ function buildScene(result) {
   if (box.isEmpty()) box.set(new THREE.Vector3(-0.1, -0.1, 0), new THREE.Vector3(0.1, 0.1, 0.2));
   const sphere = box.getBoundingSphere(new THREE.Sphere());
   const radius = Math.max(sphere.radius, 0.05);
+  // The world frame at its origin, and without a ground plane in the MJCF a grid on z = 0 for
+  // scale (its squares a round size: 1, 2 or 5 × a power of ten metres).
+  scene.add(new THREE.AxesHelper(Math.min(0.05, radius / 3)));
+  if (!result.geoms.some((geom) => geom.type === 'plane')) {
+    const raw = radius / 4;
+    const power = 10 ** Math.floor(Math.log10(raw));
+    const cell = [1, 2, 5, 10].map((f) => f * power).find((f) => f >= raw);
+    const cells = 2 * Math.ceil((radius * 2) / cell);
+    const grid = new THREE.GridHelper(cells * cell, cells, 0x9aa5b1, 0xc9d1da);
+    grid.rotation.x = Math.PI / 2;
+    grid.position.set(Math.round(sphere.center.x / cell) * cell, Math.round(sphere.center.y / cell) * cell, 0);
+    scene.add(grid);
+    view3d.gridCell = cell;
+  } else {
+    view3d.gridCell = null;
+  }
   const geoms = result.geoms.map((geom) => {
     const object = makeGeom(geom, radius * 3);
     placeGeom(object, geom);
@@ -137,8 +157,10 @@ function buildScene(result) {
   view3d.camera.position.set(c.x + distance * 0.6, c.y - distance * 0.75, c.z + distance * 0.35);
   view3d.controls.target.copy(c);
   view3d.controls.update();
-  const notes = result.notes ?? [];
-  setText($('physics-notes'), notes.length ? `Notes: ${notes.join('; ')}` : '');
+  const notes = [...(result.notes ?? [])];
+  if (view3d.gridCell) notes.push(`grid squares ${num(view3d.gridCell * 100)} cm on z = 0`);
+  notes.push('drag to turn, wheel to zoom, right-drag to pan');
+  setText($('physics-notes'), notes.join('; '));
 }
 
 function signatureOf(result) {

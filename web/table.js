@@ -1,11 +1,14 @@
 // Control table view: every item of one servo from `table`, raw values editable with `set`.
 import * as api from './api.js';
 import * as servos from './servos.js';
-import {$, el, fillSelect, fmt, parseInteger, parseServoKey, parseUnit, setText, showMessage} from './util.js';
+import {$, el, fillSelect, num, parseInteger, parseServoKey, parseUnit, setText, showMessage} from './util.js';
 
 let rowsOf = '';     // "port/id/model" the rows were built for
 let items = new Map();  // key -> the last table item
 let editing = null;  // the key whose raw value is being edited
+
+// Units the model files write without a figure: the raw value is already in them.
+const kPlainUnits = /^(°C|°|V|mV|A|mA|%|s|ms|us|µs|μs|Hz|rpm|RPM|N·m)$/;
 
 function selected() {
   const value = $('servo-select').value;
@@ -19,27 +22,26 @@ function rangeText(item) {
 }
 
 function scaledText(item) {
-  if (item.scaled !== undefined && item.scaled !== null) {
-    return `${fmt(item.scaled, 3)} ${item.scaled_unit ?? ''}`.trim();
-  }
-  // A unit the daemon does not scale (FEETECH's "0.1V") or a daemon without `scaled`.
-  const unit = parseUnit(item.unit);
-  if (unit && typeof item.value === 'number') {
-    return `${fmt(Math.round(item.value * unit.factor * 1e9) / 1e9, 3)} ${unit.unit}`;
-  }
-  return '';
+  if (typeof item.scaled === 'number') return `${num(item.scaled)} ${item.scaled_unit ?? ''}`.trim();
+  if (typeof item.value !== 'number' || typeof item.unit !== 'string') return '';
+  const unit = item.unit.trim();
+  if (kPlainUnits.test(unit)) return `${item.value} ${unit}`;
+  // A daemon without `scaled`: the same scaling here.
+  const parsed = item.scaled === undefined ? parseUnit(unit) : null;
+  return parsed ? `${num(item.value * parsed.factor)} ${parsed.unit}` : '';
 }
 
 function buildRows(result) {
   const body = $('ct-table').tBodies[0];
-  body.replaceChildren(...result.items.map((item) => el('tr', {dataset: {key: item.key}, class: item.area === 'EEPROM' ? 'eeprom' : 'ram'},
+  body.replaceChildren(...result.items.map((item) => el('tr', {dataset: {key: item.key}, class: String(item.area ?? '').toLowerCase()},
     el('td', {class: 'num'}, item.address),
     el('td', {title: item.key}, item.name ?? item.key),
     el('td', {class: 'num'}, item.size),
-    el('td', {}, item.access ?? ''),
-    el('td', {}, item.area ?? ''),
-    el('td', {class: 'num', title: item.unit ?? ''}, rangeText(item)),
-    el('td', {class: 'raw num', title: 'click to change'}),
+    el('td', {class: 'access'}, item.access ?? ''),
+    el('td', {class: 'area'}, item.area ?? ''),
+    el('td', {class: 'num'}, rangeText(item)),
+    el('td', {class: 'unit'}, item.unit ?? ''),
+    el('td', {class: 'raw num', title: item.access === 'R' ? 'read-only on the bus; set forces it device-side' : 'click to change'}),
     el('td', {class: 'scaled num'}))));
 }
 
@@ -86,8 +88,15 @@ async function refresh() {
   try {
     result = await servos.table(target.port, target.servo);
   } catch (error) {
-    if (error instanceof api.ApiError) showMessage($('ct-message'), error.message, false);
-    throw error;
+    if (!(error instanceof api.ApiError)) throw error;
+    // E.g. two servos sharing an ID after a factory reset: say why in place of the values.
+    const text = `table refused: ${error.message}`;
+    const body = $('ct-table').tBodies[0];
+    if (rowsOf !== '' || body.textContent !== text) {
+      body.replaceChildren(el('tr', {class: 'empty refused'}, el('td', {colspan: '9'}, text)));
+    }
+    rowsOf = '';
+    return;
   }
   if (result === null) {
     showMessage($('ct-message'), 'this daemon has no "table" command: the control table view needs a newer dxlemu', false);

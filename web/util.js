@@ -94,7 +94,17 @@ export function fmt(value, digits = 3) {
   if (typeof value === 'boolean') return value ? 'yes' : 'no';
   if (typeof value !== 'number') return String(value);
   if (Number.isInteger(value)) return String(value);
-  return value.toFixed(digits);
+  const text = value.toFixed(digits);
+  return /^-0\.?0*$/.test(text) ? text.slice(1) : text;  // no "-0.0" for a tiny negative
+}
+
+/** A measured value for display: at most `digits` decimals, without trailing zeros
+ *  (7.4, 3321.5, 100.005, 2048). */
+export function num(value, digits = 3) {
+  if (typeof value !== 'number' || !Number.isFinite(value)) return value === undefined || value === null ? '' : String(value);
+  const scale = 10 ** digits;
+  const rounded = Math.round(value * scale) / scale;
+  return String(Object.is(rounded, -0) ? 0 : rounded);
 }
 
 /** Parses "12", "-3", "0x1F" as an integer; null when it is not one. */

@@ -23,7 +23,9 @@ ordered_json time_json(sim::SimTime t) {
 }  // namespace
 
 ordered_json clock_now(Target& target, const Args& /*args*/) {
-  return time_json(target.now());
+  ordered_json result = time_json(target.now());
+  result["timing"] = target.timing();
+  return result;
 }
 
 ordered_json clock_step(Target& target, const Args& args) {

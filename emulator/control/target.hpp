@@ -41,6 +41,8 @@ class Target {
   virtual sim::SimTime now() const = 0;
   /// True when simulated time only moves by clock.step (--timing manual).
   virtual bool manual_clock() const = 0;
+  /// How simulated time runs (`--timing`): "realtime", "fast" or "manual" (clock.now says it).
+  virtual std::string_view timing() const = 0;
   /// Moves simulated time forward by `d`, running everything due (manual timing only).
   virtual void step_clock(sim::SimDuration d) = 0;
   /// The fault rules every bus applies (docs/faults.md). The target owns them; every bus follows

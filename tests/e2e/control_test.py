@@ -102,12 +102,13 @@ class ControlTest(unittest.TestCase):
         reply = control.reply()
         self.assertEqual((reply["id"], reply["ok"], reply["error"]),
                          (None, False, "request longer than 65536 bytes: discarded"))
-        # Still answering, as documented: simulated time since the start, in ns and ms; under
-        # realtime timing it follows the wall clock, so it is more than 0 (the PTY hand-over
-        # measurement alone takes about 20 ms) and no more than the time since `started`.
+        # Still answering, as documented: simulated time since the start, in ns and ms, and the
+        # timing; under realtime timing it follows the wall clock, so it is more than 0 (the PTY
+        # hand-over measurement alone takes about 20 ms) and no more than the time since `started`.
         now = control.call("clock.now")
         elapsed_ns = (time.monotonic() - started) * 1e9
-        self.assertEqual(sorted(now), ["ms", "ns"])
+        self.assertEqual(sorted(now), ["ms", "ns", "timing"])
+        self.assertEqual(now["timing"], "realtime")
         self.assertIs(type(now["ns"]), int)
         self.assertGreater(now["ns"], 0)
         self.assertLessEqual(now["ns"], elapsed_ns)

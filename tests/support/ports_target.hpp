@@ -91,6 +91,7 @@ class PortsTarget : public control::Target {
   }
   sim::SimTime now() const override { return scheduler.now(); }
   bool manual_clock() const override { return manual; }
+  std::string_view timing() const override { return manual ? "manual" : "realtime"; }
   void step_clock(sim::SimDuration d) override { scheduler.advance_by(d); }
   void request_shutdown() override { shutdown_requested = true; }
   faults::Injector& faults() override { return injector; }

@@ -338,6 +338,18 @@ bool Emulator::manual_clock() const {
   return options_.timing == TimingMode::Manual;
 }
 
+std::string_view Emulator::timing() const {
+  switch (options_.timing) {
+    case TimingMode::Realtime:
+      return "realtime";
+    case TimingMode::Fast:
+      return "fast";
+    case TimingMode::Manual:
+      return "manual";
+  }
+  return "realtime";
+}
+
 void Emulator::step_clock(sim::SimDuration d) {
   scheduler_.advance_by(d);
 }

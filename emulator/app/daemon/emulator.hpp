@@ -5,6 +5,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/config/bus_config.hpp"
@@ -46,6 +47,7 @@ class Emulator : public control::Target {
   std::shared_ptr<const model::Trajectory> trajectory(const std::string& file) override;
   sim::SimTime now() const override;
   bool manual_clock() const override;
+  std::string_view timing() const override;
   void step_clock(sim::SimDuration d) override;
   void request_shutdown() override;
   faults::Injector& faults() override { return injector_; }

@@ -199,12 +199,16 @@ TEST_CASE("condition.set without a servo applies to every servo of the port", "[
         95);
 }
 
-TEST_CASE("clock.now reports simulated time in nanoseconds and milliseconds", "[control]") {
+TEST_CASE("clock.now reports simulated time in nanoseconds and milliseconds, and the timing",
+          "[control]") {
   Rig rig;
   CHECK(rig.api.handle(R"({"id":6,"cmd":"clock.now"})") ==
-        R"({"id":6,"ok":true,"result":{"ns":0,"ms":0.0}})");
+        R"({"id":6,"ok":true,"result":{"ns":0,"ms":0.0,"timing":"manual"}})");
   rig.target.scheduler.advance_by(1500us);
-  CHECK(rig.result(R"({"cmd":"clock.now"})") == json::parse(R"({"ns":1500000,"ms":1.5})"));
+  CHECK(rig.result(R"({"cmd":"clock.now"})") ==
+        json::parse(R"({"ns":1500000,"ms":1.5,"timing":"manual"})"));
+  rig.target.manual = false;
+  CHECK(rig.result(R"({"cmd":"clock.now"})")["timing"] == "realtime");
 }
 
 TEST_CASE("clock.step advances simulated time by ms, us or ns and runs what is due", "[control]") {

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "control/api.hpp"
 #include "control/target.hpp"
@@ -26,6 +27,7 @@ class EmptyTarget : public control::Target {
   }
   sim::SimTime now() const override { return {}; }
   bool manual_clock() const override { return true; }
+  std::string_view timing() const override { return "manual"; }
   void step_clock(sim::SimDuration /*d*/) override {}
   faults::Injector& faults() override { return injector_; }
   void subscribe_trace(const control::Connection& /*connection*/,
