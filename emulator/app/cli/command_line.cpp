@@ -290,7 +290,7 @@ void add_daemon_options(CLI::App& run, CommandLine& line) {
               return std::string(e.what());
             }
           },
-          "[ADDR:]PORT"));
+          ""));
   run.add_flag("--web-read-only", options.web_read_only,
                "The web interface only shows: every change through it is refused");
   run.add_option("--trace", options.trace,

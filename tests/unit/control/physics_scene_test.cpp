@@ -15,7 +15,7 @@
 using namespace dxlemu;
 using nlohmann::json;
 
-namespace {
+namespace dxlemu::test::physics_scene {
 
 // No joints; one ball that moves 1 mm along x each step, and a plane that stays.
 class BallWorld : public physics::World {
@@ -55,8 +55,6 @@ struct Rig : test::ApiRequests<Rig> {
   Rig() { target.world = &view; }
 };
 
-}  // namespace
-
 TEST_CASE("physics.scene lists each geom's shape, colour and pose, caught up to now",
           "[control][physics]") {
   Rig rig;
@@ -71,3 +69,5 @@ TEST_CASE("physics.scene lists each geom's shape, colour and pose, caught up to 
         R"("mat":[1.0,0.0,0.0,0.0,1.0,0.0,0.0,0.0,1.0],"mesh":"rock"}],)"
         R"("notes":["mesh \"rock\" drawn as its bounding box"]}})");
 }
+
+}  // namespace dxlemu::test::physics_scene

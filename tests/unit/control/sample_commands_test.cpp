@@ -14,7 +14,7 @@
 using namespace dxlemu;
 using nlohmann::json;
 
-namespace {
+namespace dxlemu::test::sample_commands {
 
 /// dxl0: two XM430-W350 (IDs 1 and 2); dxl1: one AX-12A (ID 3). Connection 5 records its events.
 struct Rig : test::ApiRequests<Rig> {
@@ -56,8 +56,6 @@ struct Rig : test::ApiRequests<Rig> {
 
 const std::string kPosition =
     R"({"cmd":"sample.subscribe","items":[{"port":"dxl0","servo":1,"item":"present_position"}],)";
-
-}  // namespace
 
 TEST_CASE("sample.subscribe names what it samples and sends every period of simulated time",
           "[control]") {
@@ -280,3 +278,5 @@ TEST_CASE("sample.subscribe takes ten items, and periods of 1 and 1000 ms", "[co
   rig.step_ms(2500);
   CHECK(rig.times() == std::vector<double>{1.003, 2.003});
 }
+
+}  // namespace dxlemu::test::sample_commands

@@ -13,7 +13,7 @@
 using namespace dxlemu;
 using physics::GeomType;
 
-namespace {
+namespace dxlemu::test::mujoco_scene {
 
 // A floor, a height field, a 0.2 x 0.4 x 0.6 m block mesh (corner at its origin) placed at x = 1,
 // and an arm hanging from a hinge at 1 m: a red rod along its x and a box at the rod's end.
@@ -57,8 +57,6 @@ bool near(const std::array<double, 3>& got, const std::array<double, 3>& want) {
 std::array<double, 3> axis(const physics::GeomPose& pose, std::size_t c) {
   return {pose.mat[c], pose.mat[3 + c], pose.mat[6 + c]};
 }
-
-}  // namespace
 
 TEST_CASE("A MuJoCo world describes its geoms for drawing, a mesh as its bounding box",
           "[physics][mujoco]") {
@@ -138,3 +136,5 @@ TEST_CASE("Geom poses are those of the state now, not of the last step's start",
   CHECK(world.joint(hinge).position_rad == again.joint(hinge).position_rad);
   CHECK(world.joint(hinge).velocity_rad_s == again.joint(hinge).velocity_rad_s);
 }
+
+}  // namespace dxlemu::test::mujoco_scene
