@@ -20,7 +20,10 @@ with the daemon and the client for the cores, which the third kind's lateness sh
 second's does not.
 
     /usr/bin/python3 bench/web_cost.py --dxlemu build/emulator/dxlemu [--seconds 10] [--rounds 3]
-                                       [--no-browser]
+                                       [--no-browser] [--isolate]
+
+--isolate puts the daemon alone on the last CPU and the client, the page's stand-in and Chromium
+on the others: what the daemon itself spends, without the page competing for its core.
 
 Markdown to stdout, progress to stderr.
 """
@@ -31,6 +34,7 @@ import glob
 import json
 import os
 import statistics
+import subprocess
 import sys
 import threading
 import time
@@ -82,37 +86,59 @@ def open_page(url: str):
 
 
 class PageRequests:
-    """What the page asks of the daemon in those two views, over its WebSocket, with a thread
-    that takes every message as a browser would: the daemon's side of the page without the
-    browser's own CPU."""
+    """What the page asks of the daemon in those two views, over its WebSocket, from a process of
+    its own that takes every message as a browser would: the daemon's side of the page without
+    the browser's CPU, and without sharing the client's Python interpreter (its lock)."""
 
     def __init__(self, url: str):
-        self.ws = WebSocket(url)
-        self.ws.call({"id": 1, "cmd": "trace.subscribe"})
-        items = [{"port": "dxl0", "servo": servo, "item": item} for servo, item in GRAPH_ITEMS]
-        self.ws.call({"id": 2, "cmd": "sample.subscribe", "items": items, "period_ms": 10})
+        self.process = subprocess.Popen([sys.executable, __file__, "--page-requests", url],
+                                        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        if self.process.stdout.readline().strip() != "ready":
+            raise RuntimeError("the page's stand-in did not start")
         self.lost = 0
-        self.running = True
-        self.thread = threading.Thread(target=self._drain, daemon=True)
-        self.thread.start()
 
-    def _drain(self) -> None:
-        while self.running:
+    def close(self) -> None:
+        self.process.stdin.close()  # the stand-in reports what it lost and ends
+        self.lost = int(self.process.stdout.readline() or 0)
+        self.process.wait(timeout=10)
+
+
+def serve_page_requests(url: str) -> None:
+    """The stand-in's process: subscribes as the page does, reads until stdin closes, then
+    prints how many events the daemon dropped for it."""
+    ws = WebSocket(url)
+    ws.call({"id": 1, "cmd": "trace.subscribe"})
+    items = [{"port": "dxl0", "servo": servo, "item": item} for servo, item in GRAPH_ITEMS]
+    ws.call({"id": 2, "cmd": "sample.subscribe", "items": items, "period_ms": 10})
+    lost = [0]
+
+    def drain() -> None:
+        while True:
             try:
-                for line in self.ws.message().split("\n"):
+                for line in ws.message().split("\n"):
                     if line.startswith('{"event":"dropped"'):
-                        self.lost = json.loads(line)["total"]
+                        lost[0] = json.loads(line)["total"]
             except (OSError, ConnectionError):
                 return
 
-    def close(self) -> None:
-        self.running = False
-        self.ws.close()
+    threading.Thread(target=drain, daemon=True).start()
+    print("ready", flush=True)
+    sys.stdin.read()
+    print(lost[0], flush=True)
+    os._exit(0)
 
 
-def one_run(binary: str, seconds: float, client: str | None) -> dict:
+def pin_daemon(pid: int, cpu: int) -> None:
+    """Every thread of the daemon on `cpu` alone (--isolate)."""
+    for task in os.listdir(f"/proc/{pid}/task"):
+        os.sched_setaffinity(int(task), {cpu})
+
+
+def one_run(binary: str, seconds: float, client: str | None, isolate: bool) -> dict:
     with Emulator(binary=binary, servos=["xm430-w350:1-10"], baud=1000000,
                   args=["--web", "0"]) as emulator:
+        if isolate:
+            pin_daemon(emulator.process.proc.pid, max(os.sched_getaffinity(emulator.process.proc.pid)))
         url = emulator.process.ready[0]["web"]
         driver = open_page(url) if client == "page" else None
         socket_client = PageRequests(url) if client == "socket" else None
@@ -150,13 +176,24 @@ CLIENTS = {None: "no page", "socket": "page's requests", "page": "page in Chromi
 
 
 def main() -> int:
+    if len(sys.argv) == 3 and sys.argv[1] == "--page-requests":
+        serve_page_requests(sys.argv[2])
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--dxlemu", required=True)
     parser.add_argument("--seconds", type=float, default=10)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--no-browser", action="store_true",
                         help="only the page's requests over a WebSocket, no Chromium")
+    parser.add_argument("--isolate", action="store_true",
+                        help="the daemon alone on the last CPU, everything else (the client, "
+                             "the page, Chromium) on the others: the daemon's own cost, "
+                             "without competing for a core")
     args = parser.parse_args()
+    if args.isolate:
+        cpus = sorted(os.sched_getaffinity(0))
+        if len(cpus) < 2:
+            parser.error("--isolate needs at least 2 CPUs")
+        os.sched_setaffinity(0, set(cpus[:-1]))  # inherited by Chromium and the daemon
     clients = [None, "socket"] + ([] if args.no_browser else ["page"])
     runs: dict = {client: [] for client in clients}
     for round_index in range(args.rounds):
@@ -164,9 +201,10 @@ def main() -> int:
         order = clients[round_index % len(clients):] + clients[:round_index % len(clients)]
         for client in order:
             print(f"round {round_index + 1}: {CLIENTS[client]}", file=sys.stderr)
-            runs[client].append(one_run(args.dxlemu, args.seconds, client))
+            runs[client].append(one_run(args.dxlemu, args.seconds, client, args.isolate))
     print(f"### {args.rounds} rounds of {args.seconds:g} s, 10 XM430-W350 at 1 Mbit/s, "
-          "Sync Read back to back\n")
+          "Sync Read back to back" + (", the daemon alone on a CPU" if args.isolate else "")
+          + "\n")
     print("| run | daemon CPU % | lateness p50 µs | p99 µs | max µs | Sync Reads | events lost |")
     print("|---|---|---|---|---|---|---|")
     for client in clients:
