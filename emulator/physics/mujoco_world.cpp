@@ -130,8 +130,15 @@ void MujocoWorld::describe_geoms() {
     const auto type = geom_type(model_->geom_type[g]);
     std::string name = name_of(model_, mjOBJ_GEOM, g);
     if (!type) {
-      scene_.notes.push_back("geom " + (name.empty() ? "#" + std::to_string(g) : '"' + name + '"') +
-                             " left out: a height field is not drawn");
+      // Appended piece by piece: g++ 12 takes `"#" + std::to_string(g)` for an overlapping
+      // copy (-Wrestrict, a false positive) when optimising.
+      std::string note = "geom ";
+      if (name.empty()) {
+        note.append("#").append(std::to_string(g));
+      } else {
+        note.append("\"").append(name).append("\"");
+      }
+      scene_.notes.push_back(note.append(" left out: a height field is not drawn"));
       continue;
     }
     GeomShape shape;
