@@ -27,12 +27,15 @@ fields=$(dpkg-deb -f "$deb") || fail "dpkg-deb -f $deb"
 grep -qx "Package: dxlemu" <<<"$fields" || fail "control fields:"$'\n'"$fields"
 grep -qx "Version: $version" <<<"$fields" || fail "not version $version:"$'\n'"$fields"
 grep -qE "^Depends: .*libc6" <<<"$fields" || fail "no Depends on libc6:"$'\n'"$fields"
+grep -qx "Recommends: libjs-three, libjs-chart.js" <<<"$fields" ||
+  fail "no Recommends of the web page's libraries:"$'\n'"$fields"
 grep -qE "^Maintainer: .+ <.+>$" <<<"$fields" || fail "no Maintainer NAME <EMAIL>:"$'\n'"$fields"
 
 contents=$(dpkg-deb -c "$deb") || fail "dpkg-deb -c $deb"
 for path in ./usr/bin/dxlemu ./usr/share/dxlemu/models/catalog.json \
   ./usr/share/dxlemu/models/xm430-w350.json ./usr/share/dxlemu/models/schema/model.schema.json \
-  ./usr/share/dxlemu/robots/so101-follower.json ./usr/share/doc/dxlemu/README.md; do
+  ./usr/share/dxlemu/robots/so101-follower.json ./usr/share/doc/dxlemu/README.md \
+  ./usr/share/dxlemu/web/index.html ./usr/share/dxlemu/web/api.js; do
   grep -qE " $path\$" <<<"$contents" || fail "$path not in the package:"$'\n'"$contents"
 done
 # The Python package where Debian's python3 finds it, with its dist-info, and the path from it
@@ -52,8 +55,8 @@ preload='./usr/lib(/[^/]+)?/dxlemu/libdxlemu-preload\.so'
 grep -qE " $preload\$" <<<"$contents" || fail "libdxlemu-preload.so not in the package:"$'\n'"$contents"
 # The executable is the only file in usr/bin; nothing else (tests, fuzzers, other libraries) ships.
 others=$(grep -E '^-' <<<"$contents" |
-  grep -vE " ./usr/(bin/dxlemu|share/dxlemu/(models|robots)/|share/doc/dxlemu/)| $preload\$" |
+  grep -vE " ./usr/(bin/dxlemu|share/dxlemu/(models|robots|web)/|share/doc/dxlemu/)| $preload\$" |
   grep -vE " $site/dxlemu(/[a-z_]+\.py|-$version\.dist-info/[A-Za-z_.]+)\$")
 [ -z "$others" ] || fail "unexpected files in the package:"$'\n'"$others"
 
-echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the preload library, the model library, the robot profiles and the Python package"
+echo "ok: $(basename "$deb"): Package dxlemu $version with bin/dxlemu, the preload library, the model library, the robot profiles, the web page and the Python package"
