@@ -20,7 +20,7 @@ with the daemon and the client for the cores, which the third kind's lateness sh
 second's does not.
 
     /usr/bin/python3 bench/web_cost.py --dxlemu build/emulator/dxlemu [--seconds 10] [--rounds 3]
-                                       [--no-browser] [--isolate]
+                                       [--no-browser] [--isolate] [--daemon-arg ARG]...
 
 --isolate puts the daemon alone on the last CPU and the client, the page's stand-in and Chromium
 on the others: what the daemon itself spends, without the page competing for its core.
@@ -134,9 +134,10 @@ def pin_daemon(pid: int, cpu: int) -> None:
         os.sched_setaffinity(int(task), {cpu})
 
 
-def one_run(binary: str, seconds: float, client: str | None, isolate: bool) -> dict:
+def one_run(binary: str, seconds: float, client: str | None, isolate: bool,
+            extra: list[str]) -> dict:
     with Emulator(binary=binary, servos=["xm430-w350:1-10"], baud=1000000,
-                  args=["--web", "0"]) as emulator:
+                  args=["--web", "0", *extra]) as emulator:
         if isolate:
             pin_daemon(emulator.process.proc.pid, max(os.sched_getaffinity(emulator.process.proc.pid)))
         url = emulator.process.ready[0]["web"]
@@ -188,6 +189,9 @@ def main() -> int:
                         help="the daemon alone on the last CPU, everything else (the client, "
                              "the page, Chromium) on the others: the daemon's own cost, "
                              "without competing for a core")
+    parser.add_argument("--daemon-arg", action="append", default=[],
+                        help="one more argument of every `dxlemu run` (repeatable), e.g. "
+                             "--daemon-arg=--realtime-priority --daemon-arg=10")
     args = parser.parse_args()
     if args.isolate:
         cpus = sorted(os.sched_getaffinity(0))
@@ -201,10 +205,11 @@ def main() -> int:
         order = clients[round_index % len(clients):] + clients[:round_index % len(clients)]
         for client in order:
             print(f"round {round_index + 1}: {CLIENTS[client]}", file=sys.stderr)
-            runs[client].append(one_run(args.dxlemu, args.seconds, client, args.isolate))
+            runs[client].append(one_run(args.dxlemu, args.seconds, client, args.isolate,
+                                        args.daemon_arg))
     print(f"### {args.rounds} rounds of {args.seconds:g} s, 10 XM430-W350 at 1 Mbit/s, "
           "Sync Read back to back" + (", the daemon alone on a CPU" if args.isolate else "")
-          + "\n")
+          + (", dxlemu run " + " ".join(args.daemon_arg) if args.daemon_arg else "") + "\n")
     print("| run | daemon CPU % | lateness p50 µs | p99 µs | max µs | Sync Reads | events lost |")
     print("|---|---|---|---|---|---|---|")
     for client in clients:
