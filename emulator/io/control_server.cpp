@@ -11,11 +11,10 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/write.hpp>
 #include <cerrno>
-#include <chrono>
 #include <optional>
-#include <system_error>
 #include <utility>
 
+#include "io/accept_again.hpp"
 #include "io/read_chunk.hpp"
 #include "io/session_table.hpp"
 #include "io/socket_file.hpp"
@@ -24,17 +23,6 @@ namespace dxlemu::io {
 namespace {
 
 using boost::asio::local::stream_protocol;
-
-// How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of file
-// descriptors). Retrying at once would spin, as the listening socket stays readable.
-constexpr std::chrono::milliseconds kAcceptRetry{100};
-
-void check(const boost::system::error_code& ec, const std::string& what) {
-  if (ec) {
-    // Boost's system category on POSIX carries errno values.
-    throw std::system_error(ec.value(), std::system_category(), what);
-  }
-}
 
 // A callback documented not to throw that throws anyway gets the internal_error reply.
 template <typename Fn>
@@ -57,7 +45,6 @@ struct ControlServer::State : std::enable_shared_from_this<State> {
         std::size_t max_line);
 
   void accept();
-  void retry_accept_later();
   /// Closes `session` and reports it to on_close from a handler of its own (never re-entrantly
   /// from inside a handler or send()).
   void close(Session& session) { sessions.close(session); }
@@ -135,13 +122,13 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
   prepare_socket_path(this->path);
   boost::system::error_code ec;
   acceptor.open(stream_protocol(), ec);
-  check(ec, "creating " + what);
+  throw_if_failed(ec, "creating " + what);
   // Linux creates the socket file with the socket's own mode (less the umask), so after this no
   // other user can connect even in the moment between bind and the chmod below (which makes
   // sure on systems where it does not).
   ::fchmod(acceptor.native_handle(), kSocketMode);
   acceptor.bind(stream_protocol::endpoint(this->path.string()), ec);
-  check(ec, "binding " + what);
+  throw_if_failed(ec, "binding " + what);
   const std::optional<FileIdentity> made = restrict_socket_file(this->path);
   const int error = errno;
   if (made) {
@@ -150,8 +137,8 @@ ControlServer::State::State(boost::asio::io_context& io, std::filesystem::path p
   }
   if (!made || ec) {
     ::unlink(this->path.c_str());
-    check(made ? ec : boost::system::error_code(error, boost::system::system_category()),
-          "setting up " + what);
+    throw_if_failed(made ? ec : boost::system::error_code(error, boost::system::system_category()),
+                    "setting up " + what);
   }
 }
 
@@ -163,7 +150,7 @@ void ControlServer::State::accept() {
       return;
     }
     if (ec) {
-      self->retry_accept_later();
+      accept_again_later(self->retry_timer, weak);
       return;
     }
     const std::uint64_t id = self->next_id++;
@@ -171,16 +158,6 @@ void ControlServer::State::accept() {
     self->sessions.add(session);
     session->start();
     self->accept();
-  });
-}
-
-void ControlServer::State::retry_accept_later() {
-  retry_timer.expires_after(kAcceptRetry);
-  retry_timer.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
-    const auto self = weak.lock();
-    if (!ec && self && !self->stopped) {
-      self->accept();
-    }
   });
 }
 

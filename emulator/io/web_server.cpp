@@ -23,11 +23,11 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
-#include <system_error>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "io/accept_again.hpp"
 #include "io/session_table.hpp"
 #include "io/web_access.hpp"
 #include "io/web_files.hpp"
@@ -43,9 +43,6 @@ using tcp = boost::asio::ip::tcp;
 struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_this<State> {
   class HttpConnection;
 
-  // How long to wait before accepting again after accept() itself failed (e.g. EMFILE: out of
-  // file descriptors). Retrying at once would spin, as the listening socket stays readable.
-  static constexpr std::chrono::milliseconds kAcceptRetry{100};
   // The request line and headers of one request at most (431 beyond).
   static constexpr std::uint32_t kHeaderLimit = 8 * 1024;
   // After a response that ends a connection, what the client still sends is read and dropped
@@ -61,8 +58,6 @@ struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_thi
   static constexpr std::string_view kNoStore = "no-store";
   static constexpr std::string_view kLibraryCaching = "private, max-age=3600";
 
-  /// Throws std::system_error for `ec`, saying `what` failed.
-  static void check(const boost::system::error_code& ec, const std::string& what);
   /// The address to listen on: numeric, "[v6]" or "localhost".
   static boost::asio::ip::address parse_address(std::string text);
   /// Beast's string views (Boost's, in Boost 1.74) and the standard's.
@@ -76,7 +71,6 @@ struct WebServer::State final : web::WebSocketOwner, std::enable_shared_from_thi
   void count_dropped(std::uint64_t count) override { dropped += count; }
 
   void accept();
-  void retry_accept_later();
   /// Hands `connection`'s stream to a new WebSocket session for `upgrade` (already checked).
   void upgrade(HttpConnection& connection, beast::tcp_stream stream,
                const http::request<http::empty_body>& request);
@@ -170,25 +164,18 @@ WebServer::State::State(boost::asio::io_context& io, WebServerOptions options_in
   const tcp::endpoint endpoint(address, options->port);
   boost::system::error_code ec;
   acceptor.open(endpoint.protocol(), ec);
-  check(ec, "opening " + what);
+  throw_if_failed(ec, "opening " + what);
   // A restarted daemon gets its port back at once, though the last one's connections linger in
   // TIME_WAIT; a port another socket listens on is still refused.
   acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
-  check(ec, "setting up " + what);
+  throw_if_failed(ec, "setting up " + what);
   acceptor.bind(endpoint, ec);
-  check(ec, "binding " + what);
+  throw_if_failed(ec, "binding " + what);
   acceptor.listen(boost::asio::socket_base::max_listen_connections, ec);
-  check(ec, "listening on " + what);
+  throw_if_failed(ec, "listening on " + what);
   port = acceptor.local_endpoint().port();
   cookie_name = web::token_cookie_name(port);
   hosts = {"localhost", "127.0.0.1", "[::1]", web::url_host(address.to_string())};
-}
-
-void WebServer::State::check(const boost::system::error_code& ec, const std::string& what) {
-  if (ec) {
-    // Boost's system category on POSIX carries errno values.
-    throw std::system_error(ec.value(), std::system_category(), what);
-  }
 }
 
 boost::asio::ip::address WebServer::State::parse_address(std::string text) {
@@ -200,7 +187,7 @@ boost::asio::ip::address WebServer::State::parse_address(std::string text) {
   }
   boost::system::error_code ec;
   auto parsed = boost::asio::ip::make_address(text, ec);
-  check(ec, "the web server's address \"" + text + "\" (a numeric IPv4 or IPv6 address)");
+  throw_if_failed(ec, "the web server's address \"" + text + "\" (a numeric IPv4 or IPv6 address)");
   return parsed;
 }
 
@@ -223,7 +210,7 @@ void WebServer::State::accept() {
           return;
         }
         if (ec) {
-          self->retry_accept_later();
+          accept_again_later(self->retry_timer, weak);
           return;
         }
         if (self->connections.size() + self->sessions.size() >= self->options->max_connections) {
@@ -241,16 +228,6 @@ void WebServer::State::accept() {
         }
         self->accept();
       });
-}
-
-void WebServer::State::retry_accept_later() {
-  retry_timer.expires_after(kAcceptRetry);
-  retry_timer.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
-    const auto self = weak.lock();
-    if (!ec && self && !self->stopped) {
-      self->accept();
-    }
-  });
 }
 
 std::optional<std::string> WebServer::State::upgrade_refusal(
