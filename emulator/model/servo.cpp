@@ -100,7 +100,7 @@ void Servo::commit_deferred() {
   if (items_.protocol) {
     const std::int64_t v = table_.get(*items_.protocol);
     // Another value (S.BUS, iBUS, RC-PWM, Modbus) is no protocol of the emulated bus.
-    protocol_ = wire::protocol_from_number(v);
+    protocol_ = wire::protocol_from_type_value(v);
   } else {
     protocol_ = spec().protocols.front();
   }

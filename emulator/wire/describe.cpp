@@ -87,6 +87,12 @@ struct Describer {
       field("position", *p.position);
     }
   }
+  void operator()(const WriteRead& w) const {
+    (*this)(w.write);
+    out += ';';
+    (*this)(w.read);
+  }
+  void operator()(const Echo& e) const { data(e.data); }
   void operator()(const UnknownInstruction& u) const {
     out += " instruction=" + hex_byte(u.instruction);
     if (!u.params.empty()) {
@@ -110,7 +116,8 @@ std::string describe(const InstructionPacket& packet) {
   // (0x10 in 1.0); it is still unknown to this packet's protocol.
   out += std::holds_alternative<UnknownInstruction>(packet.instruction)
              ? std::string_view("unknown")
-             : instruction_name(packet.protocol, instruction_code(packet.instruction));
+             : instruction_name(packet.protocol,
+                                instruction_code(packet.protocol, packet.instruction));
   std::visit(Describer{out}, packet.instruction);
   return out;
 }

@@ -7,6 +7,7 @@
 
 #include "wire/checksum.hpp"
 #include "wire/crc16.hpp"
+#include "wire/rtu_timing.hpp"
 #include "wire/stuffing.hpp"
 
 namespace dxlemu::wire {
@@ -23,13 +24,9 @@ constexpr std::size_t kCompactBytes = 4096;
 
 FrameFormat FrameFormat::for_protocol(Protocol protocol) {
   const FrameShape& shape = traits(protocol).frame;
-  if (shape.delimiting != Delimiting::LengthField) {
-    // A frame ended by silence needs the line's character time: not this framer's input.
-    throw std::invalid_argument("Framer: " + std::string(traits(protocol).title) +
-                                " frames end at a silence; this framer reads LENGTH fields");
-  }
   FrameFormat f;
   f.protocol = protocol;
+  f.silence_delimited = shape.delimiting == Delimiting::Silence;
   f.header.assign(shape.header.begin(), shape.header.begin() + shape.header_size);
   f.length_field_bytes = shape.field_bytes;
   f.min_length = shape.min_length;
@@ -58,6 +55,10 @@ void Framer::feed(std::span<const std::uint8_t> bytes, std::span<const sim::SimT
   if (bytes.empty()) {
     return;
   }
+  if (format_.silence_delimited) {
+    feed_silent(bytes, times, out);
+    return;
+  }
   expire(times.front(), out);
   buf_.insert(buf_.end(), bytes.begin(), bytes.end());
   times_.insert(times_.end(), times.begin(), times.end());
@@ -66,6 +67,12 @@ void Framer::feed(std::span<const std::uint8_t> bytes, std::span<const sim::SimT
 }
 
 void Framer::expire(sim::SimTime now, std::vector<FramerEvent>& out) {
+  if (format_.silence_delimited) {
+    if (const auto due = deadline(); due && now >= *due) {
+      close_silent(out);
+    }
+    return;
+  }
   // "If the delay time is over 1.5ms": a gap exactly equal to the timeout is still accepted.
   if (buffered() > 0 && now - last_at_ > format_.inter_byte_timeout) {
     scan(true, out);
@@ -73,8 +80,12 @@ void Framer::expire(sim::SimTime now, std::vector<FramerEvent>& out) {
 }
 
 std::optional<sim::SimTime> Framer::deadline() const {
-  if (buffered() == 0) {
+  if (buffered() == 0 && overflow_ == 0) {
     return std::nullopt;
+  }
+  if (format_.silence_delimited) {
+    // "At least 3.5 character times": a silence exactly that long ends the frame.
+    return last_end_ + frame_silence(traits(format_.protocol).frame, bps_);
   }
   return last_at_ + format_.inter_byte_timeout + SimDuration{1};
 }

@@ -30,11 +30,21 @@ struct FrameFormat {
   /// protocol2.md "Byte to Byte Time": 100 ms and 1.5 ms; FEETECH, undocumented: 1.0's 100 ms).
   sim::SimDuration inter_byte_timeout{};
 
-  /// The format of Protocol 1.0, 2.0 or FEETECH with the defaults documented in docs/wire.md.
+  /// True for a protocol whose frames end at a silence (Modbus RTU): no header or LENGTH, and
+  /// the fields above other than `protocol`, `min_length` and `max_length` (whole frames here)
+  /// are unused.
+  bool silence_delimited = false;
+
+  /// The format of a protocol's row with the defaults documented in docs/wire.md.
   static FrameFormat for_protocol(Protocol protocol);
 };
 
-/// Incremental framer for one protocol. Accepts bytes split anywhere, several packets per chunk
+/// Incremental framer for one protocol. A silence-delimited protocol (Modbus RTU) is framed by
+/// the time between bytes instead (see set_line_rate): a frame ends at t3.5 of silence, a gap
+/// over t1.5 inside it makes it Truncated, a bad CRC BadCheck, a frame shorter or longer than
+/// the protocol allows Truncated or ImpossibleLength.
+///
+/// Otherwise: an incremental framer Accepts bytes split anywhere, several packets per chunk
 /// and garbage around them; yields verified frames and framing errors in arrival order, each with
 /// the bytes it covers (`raw`), so that no one outside wire/ needs to find them again.
 ///
@@ -60,12 +70,22 @@ class Framer {
   /// inside them are still yielded, the incomplete rest becomes Truncated or Garbage.
   void expire(sim::SimTime now, std::vector<FramerEvent>& out);
 
-  /// The earliest time at which expire() would drop the buffered partial packet; nullopt when
-  /// nothing is buffered.
+  /// The earliest time at which expire() would drop the buffered partial packet (or end a
+  /// silence-delimited frame); nullopt when nothing is buffered.
   std::optional<sim::SimTime> deadline() const;
 
+  /// The client's bit rate from now on: a silence-delimited framer measures character times at
+  /// it (a byte lasts 10 bits on the line; the silences follow the protocol's row). Other
+  /// framers ignore it.
+  void set_line_rate(std::uint32_t bps) { bps_ = bps; }
+
+  /// The client's write has ended and the line is taken to be silent after it (timing without
+  /// modelled delays, where simulated time may not move): a silence-delimited frame ends here.
+  /// Other framers ignore it.
+  void end_of_write(std::vector<FramerEvent>& out);
+
   /// Bytes fed so far, in all: the offset the next byte fed will have.
-  std::uint64_t fed() const { return dropped_ + buf_.size(); }
+  std::uint64_t fed() const { return dropped_ + buf_.size() + overflow_; }
 
   /// Bytes held while waiting for the rest of a packet.
   std::size_t buffered() const { return buf_.size() - start_; }
@@ -83,6 +103,11 @@ class Framer {
               std::vector<FramerEvent>& out);
   void flush_garbage(std::vector<FramerEvent>& out);
   void compact();
+  // Silence-delimited framing (framer_silence.cpp).
+  void feed_silent(std::span<const std::uint8_t> bytes, std::span<const sim::SimTime> times,
+                   std::vector<FramerEvent>& out);
+  void close_silent(std::vector<FramerEvent>& out);
+  sim::SimDuration byte_time() const;
 
   FrameFormat format_;
   std::vector<std::uint8_t> buf_;
@@ -94,6 +119,12 @@ class Framer {
   sim::SimTime garbage_at_{};
   std::uint64_t garbage_offset_ = 0;
   std::uint64_t dropped_ = 0;  // bytes removed from the front of buf_ so far
+  // Silence-delimited framing: the client's rate, when the last byte ended, whether a gap over
+  // t1.5 broke the frame, and the bytes of an overlong frame not kept.
+  std::uint32_t bps_ = 0;
+  sim::SimTime last_end_{};
+  bool broken_ = false;
+  std::uint64_t overflow_ = 0;
 };
 
 }  // namespace dxlemu::wire

@@ -170,6 +170,22 @@ struct PositionCalibration {
   bool operator==(const PositionCalibration&) const = default;
 };
 
+/// Modbus Read/Write Multiple Registers (0x17): `write` is done first, then `read` answered
+/// (modbus-rtu.md "Function codes"). Addresses and lengths are control-table bytes, as in Read
+/// and Write.
+struct WriteRead {
+  Write write;
+  Read read;
+  bool operator==(const WriteRead&) const = default;
+};
+
+/// Modbus Diagnostics (0x08) sub-function 0x0000, Return Query Data: `data` comes back as it
+/// was sent.
+struct Echo {
+  std::vector<std::uint8_t> data;
+  bool operator==(const Echo&) const = default;
+};
+
 /// An instruction byte this protocol does not define; a servo answers it with Instruction Error.
 struct UnknownInstruction {
   std::uint8_t instruction = 0;
@@ -177,11 +193,13 @@ struct UnknownInstruction {
   bool operator==(const UnknownInstruction&) const = default;
 };
 
-/// Every instruction of protocol1.md, protocol2.md and protocol-ft-scs.md.
-using Instruction = std::variant<Ping, Read, Write, RegWrite, Action, FactoryReset, Reboot, Clear,
-                                 ControlTableBackup, SyncRead, FastSyncRead, SyncWrite, BulkRead,
-                                 FastBulkRead, BulkWrite, ParameterRecovery, ParameterBackup,
-                                 StatusReset, PositionCalibration, UnknownInstruction>;
+/// Every instruction of protocol1.md, protocol2.md, protocol-ft-scs.md and modbus-rtu.md. Modbus
+/// register reads and writes decode as Read and Write of the control-table bytes they cover.
+using Instruction =
+    std::variant<Ping, Read, Write, RegWrite, Action, FactoryReset, Reboot, Clear,
+                 ControlTableBackup, SyncRead, FastSyncRead, SyncWrite, BulkRead, FastBulkRead,
+                 BulkWrite, ParameterRecovery, ParameterBackup, StatusReset, PositionCalibration,
+                 WriteRead, Echo, UnknownInstruction>;
 
 /// A decoded instruction packet: who it is for and what it asks.
 struct InstructionPacket {

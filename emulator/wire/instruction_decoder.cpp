@@ -7,6 +7,7 @@
 
 #include "wire/crc16.hpp"
 #include "wire/hex.hpp"
+#include "wire/modbus_codec.hpp"
 
 namespace dxlemu::wire {
 namespace {
@@ -372,6 +373,9 @@ DecodeFn decoder_for(Protocol protocol, std::uint8_t code) {
 }  // namespace
 
 DecodeResult<InstructionPacket> decode_instruction(const Frame& frame) {
+  if (frame.protocol == Protocol::Modbus) {
+    return decode_modbus_request(frame);
+  }
   ParamReader in(frame.protocol, frame.params);
   Context c{frame, in, instruction_name(frame.protocol, frame.instruction)};
   const auto decode = decoder_for(frame.protocol, frame.instruction);

@@ -15,9 +15,10 @@ namespace dxlemu::wire {
 /// Data Range Error and BadLength with Data Length Error (Protocol 1.0: the Range Error bit and
 /// the Instruction Error bit).
 enum class DecodeErrorKind {
-  BadLength,  ///< The parameter bytes do not fit the instruction's layout.
-  BadValue,   ///< A field holds a value the instruction does not allow.
-  NotStatus,  ///< Expected a status packet, got something else.
+  BadLength,   ///< The parameter bytes do not fit the instruction's layout.
+  BadValue,    ///< A field holds a value the instruction does not allow.
+  BadAddress,  ///< An address no device has (a Modbus register beyond any control table).
+  NotStatus,   ///< Expected a status packet, got something else.
 };
 
 /// Why a verified frame could not be decoded. Never thrown: returned.

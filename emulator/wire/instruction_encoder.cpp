@@ -6,6 +6,7 @@
 #include <string>
 #include <type_traits>
 
+#include "wire/modbus_codec.hpp"
 #include "wire/packet_encoder.hpp"
 
 namespace dxlemu::wire {
@@ -138,6 +139,9 @@ struct ParamsEncoder {
     }
   }
   void operator()(const UnknownInstruction& u) const { w.bytes(u.params); }
+  // Modbus RTU's own; encode_instruction hands Modbus packets to encode_modbus_request.
+  void operator()(const WriteRead&) const { w.require({Protocol::Modbus}, "write_read"); }
+  void operator()(const Echo&) const { w.require({Protocol::Modbus}, "echo"); }
 
   void address_and_data(std::uint16_t address, const std::vector<std::uint8_t>& data) const {
     w.field(address, "address");
@@ -230,6 +234,10 @@ std::uint8_t instruction_code(const Instruction& instruction) {
           return x.instruction;
         } else if constexpr (kIsFeetechOnly<T>) {
           return feetech_code_of<T>();
+        } else if constexpr (std::is_same_v<T, WriteRead>) {
+          return to_byte(ModbusFunction::ReadWriteMultipleRegisters);
+        } else if constexpr (std::is_same_v<T, Echo>) {
+          return to_byte(ModbusFunction::Diagnostics);
         } else {
           return to_byte(code_of<T>());
         }
@@ -237,7 +245,17 @@ std::uint8_t instruction_code(const Instruction& instruction) {
       instruction);
 }
 
+std::uint8_t instruction_code(Protocol protocol, const Instruction& instruction) {
+  if (protocol == Protocol::Modbus) {
+    return modbus_function_of(instruction).value_or(instruction_code(instruction));
+  }
+  return instruction_code(instruction);
+}
+
 std::vector<std::uint8_t> encode_instruction(const InstructionPacket& packet) {
+  if (packet.protocol == Protocol::Modbus) {
+    return encode_modbus_request(packet);
+  }
   ParamWriter writer(packet.protocol);
   std::visit(ParamsEncoder{writer}, packet.instruction);
   return encode_packet(packet.protocol, packet.id, instruction_code(packet.instruction),

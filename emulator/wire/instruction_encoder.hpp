@@ -17,4 +17,8 @@ std::vector<std::uint8_t> encode_instruction(const InstructionPacket& packet);
 /// The instruction byte of a decoded instruction.
 std::uint8_t instruction_code(const Instruction& instruction);
 
+/// The instruction byte that carries `instruction` in `protocol` (Modbus RTU: its function
+/// code, modbus_function_of()).
+std::uint8_t instruction_code(Protocol protocol, const Instruction& instruction);
+
 }  // namespace dxlemu::wire

@@ -6,6 +6,7 @@
 
 #include "wire/checksum.hpp"
 #include "wire/crc16.hpp"
+#include "wire/modbus_codec.hpp"
 #include "wire/stuffing.hpp"
 
 namespace dxlemu::wire {
@@ -94,6 +95,14 @@ std::optional<std::uint16_t> fast_reply_length(std::span<const std::size_t> data
     }
   }
   return static_cast<std::uint16_t>(length);
+}
+
+std::vector<std::uint8_t> encode_reply(const StatusPacket& status, const Answering& answering) {
+  if (traits(status.protocol).status.shape == StatusShape::ExceptionCode) {
+    return encode_modbus_response(status.id, answering.instruction, answering.request, status.error,
+                                  status.params);
+  }
+  return encode_status(status);
 }
 
 std::vector<std::uint8_t> encode_fast_reply(const FastReply& reply) {

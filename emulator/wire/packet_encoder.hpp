@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "wire/instruction.hpp"
 #include "wire/protocol.hpp"
 #include "wire/status.hpp"
 
@@ -22,6 +23,20 @@ std::vector<std::uint8_t> encode_packet(Protocol protocol, std::uint8_t id,
 /// error byte in the instruction position). Throws
 /// std::invalid_argument for a 2.0 status from ID 0xFE: only a Fast reply comes from there.
 std::vector<std::uint8_t> encode_status(const StatusPacket& status);
+
+/// What a reply answers: the request's instruction byte and, when it could be decoded, the
+/// request. Modbus RTU responses need both (the function code, the echo of a write); the
+/// DYNAMIXEL and FEETECH status packets neither.
+struct Answering {
+  std::uint8_t instruction = 0;
+  const Instruction* request = nullptr;
+};
+
+/// Builds the reply `status` stands for, answering `answering`: a status packet (encode_status),
+/// or in Modbus RTU the response to the function answered, an exception response when
+/// `status.error` holds an exception code (`status.params`: the control-table bytes a register
+/// read read).
+std::vector<std::uint8_t> encode_reply(const StatusPacket& status, const Answering& answering);
 
 /// Builds the combined Fast Sync/Bulk Read reply: Packet ID 0xFE, each block followed by the
 /// running CRC of the packet so far, the last one being the packet's CRC; never stuffed.

@@ -4,11 +4,12 @@
 
 namespace dxlemu::wire {
 
-/// The protocols of the codec: DYNAMIXEL Protocol 1.0 and 2.0, whose values are the Protocol Type
-/// item's values (control table address 13), and FEETECH's FT-SCS protocol (SCS/STS/SMS/HLS
-/// servos). FEETECH's value, 0x46 ('F'), lies outside every range a Protocol Type item accepts
-/// (1 ~ 2; XL330/XC330 2 ~ 22), so no number read from a DYNAMIXEL control table can become it.
-enum class Protocol : std::uint8_t { V1 = 1, V2 = 2, Feetech = 0x46 };
+/// The protocols of the codec: DYNAMIXEL Protocol 1.0 and 2.0 and Modbus RTU, whose values are the
+/// Protocol Type item's values (control table address 13; DYNAMIXEL-P: "10: Modbus-RTU"), and
+/// FEETECH's FT-SCS protocol (SCS/STS/SMS/HLS servos). FEETECH's value, 0x46 ('F'), lies outside
+/// every range a Protocol Type item accepts (1 ~ 2; XL330/XC330 2 ~ 22; P 2, 10), so no number
+/// read from a DYNAMIXEL control table can become it.
+enum class Protocol : std::uint8_t { V1 = 1, V2 = 2, Modbus = 10, Feetech = 0x46 };
 
 /// Packet ID that addresses every device on the bus (all three protocols).
 inline constexpr std::uint8_t kBroadcastId = 0xFE;
@@ -18,6 +19,11 @@ inline constexpr std::uint8_t kBroadcastId = 0xFE;
 inline constexpr std::uint8_t kMaxIdV1 = 253;
 inline constexpr std::uint8_t kMaxIdV2 = 252;
 inline constexpr std::uint8_t kMaxIdFeetech = 253;
+
+/// Modbus RTU addresses (modbus-rtu.md "RTU framing"): 0 is broadcast, 1 ~ 247 one server.
+inline constexpr std::uint8_t kModbusBroadcastAddress = 0;
+inline constexpr std::uint8_t kMinModbusAddress = 1;
+inline constexpr std::uint8_t kMaxModbusAddress = 247;
 
 /// Instruction byte values of both pages (protocol1.md and protocol2.md, "Instruction").
 enum class InstructionCode : std::uint8_t {
@@ -56,6 +62,17 @@ enum class FeetechInstructionCode : std::uint8_t {
   SyncWrite = 0x83,
 };
 
+/// Modbus function codes a DYNAMIXEL server answers (modbus-rtu.md "Function codes"); any
+/// other code is answered with exception 01.
+enum class ModbusFunction : std::uint8_t {
+  ReadHoldingRegisters = 0x03,
+  ReadInputRegisters = 0x04,
+  WriteSingleRegister = 0x06,
+  Diagnostics = 0x08,
+  WriteMultipleRegisters = 0x10,
+  ReadWriteMultipleRegisters = 0x17,
+};
+
 /// The byte value of an instruction code.
 constexpr std::uint8_t to_byte(InstructionCode code) {
   return static_cast<std::uint8_t>(code);
@@ -63,6 +80,11 @@ constexpr std::uint8_t to_byte(InstructionCode code) {
 
 /// The byte value of a FEETECH instruction code.
 constexpr std::uint8_t to_byte(FeetechInstructionCode code) {
+  return static_cast<std::uint8_t>(code);
+}
+
+/// The byte value of a Modbus function code.
+constexpr std::uint8_t to_byte(ModbusFunction code) {
   return static_cast<std::uint8_t>(code);
 }
 

@@ -56,6 +56,16 @@ struct FrameShape {
   /// The status packet's error byte sits where an instruction packet has its instruction byte
   /// (1.0 and FEETECH); otherwise the status has an instruction byte (0x55) then the error byte.
   bool error_in_instruction_position = true;
+  /// For Delimiting::Silence: a gap longer than this, in tenths of a character time, breaks the
+  /// frame it falls in (Modbus RTU: 15, "1.5 character times"); 0 otherwise.
+  std::uint8_t gap_tenths = 0;
+  /// For Delimiting::Silence: bits of one character in the timing rule (Modbus RTU: 11), and the
+  /// rate above which the silence and the gap are fixed times instead (19,200 bit/s: 1,750 and
+  /// 750 us), 0 for none.
+  std::uint8_t char_bits = 0;
+  std::uint32_t fixed_timing_above_bps = 0;
+  sim::SimDuration fixed_silence{};
+  sim::SimDuration fixed_gap{};
 };
 
 /// What one instruction byte is, for names, traces and the bus's addressing rules.
@@ -93,10 +103,11 @@ enum class Outcome : std::uint8_t {
   /// in whole or in part) or asking more than a status can carry.
   ReadOutside,
   NothingRegistered,  ///< Action with no Reg Write waiting
+  Locked,             ///< an EEPROM item while the EEPROM is locked (torque on, or Lock)
 };
 
 /// Number of Outcome values.
-inline constexpr std::size_t kOutcomeCount = 12;
+inline constexpr std::size_t kOutcomeCount = 13;
 
 /// How a protocol's status carries an outcome.
 enum class StatusShape : std::uint8_t {
@@ -165,13 +176,15 @@ struct ProtocolTraits {
   /// As the CLI (`--protocol`), model files, configs, traces and the control API spell it:
   /// "1", "2" (JSON: the number) or "feetech" (JSON: the string).
   std::string_view spelling;
-  /// DYNAMIXEL's number (the Protocol Type item's value, the JSON number); 0 when the protocol
-  /// is spelled by name.
+  /// DYNAMIXEL's number, as JSON writes it; 0 when JSON spells the protocol by name.
   int number = 0;
+  /// The Protocol Type item's value that selects it (1, 2; Modbus RTU 10); 0 for none.
+  int type_value = 0;
   /// Who makes the devices that speak it, as model::maker_name writes it: "ROBOTIS", "FEETECH".
   std::string_view maker;
   FrameShape frame;
-  /// Highest unicast ID, and the ID every device hears.
+  /// Lowest and highest unicast ID, and the ID every device hears.
+  std::uint8_t min_unicast_id = 0;
   std::uint8_t max_unicast_id = 0;
   std::uint8_t broadcast_id = kBroadcastId;
   /// Every instruction byte the protocol names.
@@ -187,6 +200,10 @@ struct ProtocolTraits {
   bool whole_item_writes = false;
   /// Bulk Read executes only on models whose family supports it (1.0's Bulk Read).
   bool bulk_read_needs_support = false;
+  /// 0: reads and writes address bytes. 2: they address registers of two bytes (Modbus RTU),
+  /// and a register write skips a byte no item of the protocol can take (absent from its map,
+  /// read-only, or no item) beside one that can (docs/modbus.md "The register map").
+  std::uint8_t register_bytes = 0;
 };
 
 // DYNAMIXEL's instruction names do not depend on the version: a 2.0-only code in a 1.0 packet
@@ -227,6 +244,17 @@ inline constexpr std::array kFeetechInstructions{
     InstructionInfo{0x83, "sync_write", "Sync Write", InstructionRole::GroupWrite},
 };
 
+// modbus-rtu.md "Function codes a register server offers"; the names are the Modbus
+// specification's.
+inline constexpr std::array kModbusFunctions{
+    InstructionInfo{0x03, "read_holding_registers", "Read Holding Registers"},
+    InstructionInfo{0x04, "read_input_registers", "Read Input Registers"},
+    InstructionInfo{0x06, "write_single_register", "Write Single Register"},
+    InstructionInfo{0x08, "diagnostics", "Diagnostics"},
+    InstructionInfo{0x10, "write_multiple_registers", "Write Multiple Registers"},
+    InstructionInfo{0x17, "read_write_multiple_registers", "Read/Write Multiple Registers"},
+};
+
 /// Helpers and constants the rows are written with.
 namespace detail {
 
@@ -261,6 +289,10 @@ inline constexpr sim::SimDuration kV2InterByteTimeout = std::chrono::microsecond
 inline constexpr std::uint16_t kV2MaxPacketBytes = 4096;
 inline constexpr std::uint16_t kV2HeaderIdLengthBytes = 7;  // FF FF FD 00 ID LEN_L LEN_H
 
+// A Modbus RTU frame: address, function code and CRC at least; "at most 256 bytes".
+inline constexpr std::uint16_t kModbusMinFrame = 4;
+inline constexpr std::uint16_t kModbusMaxFrame = 256;
+
 // The 1.0 frame (protocol1.md "Instruction Packet"), FEETECH's too (protocol-ft-scs.md 2, 3):
 // "Length = number of Parameters + 2" (instruction + checksum).
 inline constexpr FrameShape kV1Frame{Delimiting::LengthField,
@@ -285,6 +317,7 @@ inline constexpr std::array kProtocolTable{
         .title = "Protocol 1.0",
         .spelling = "1",
         .number = 1,
+        .type_value = 1,
         .maker = "ROBOTIS",
         .frame = detail::kV1Frame,
         .max_unicast_id = kMaxIdV1,
@@ -303,7 +336,8 @@ inline constexpr std::array kProtocolTable{
                                   {Outcome::BadCheck, detail::bit(4)},
                                   {Outcome::BadParameters, detail::bit(6)},
                                   {Outcome::ReadOutside, detail::bit(3)},
-                                  {Outcome::NothingRegistered, detail::bit(6)}}),
+                                  {Outcome::NothingRegistered, detail::bit(6)},
+                                  {Outcome::Locked, detail::bit(3)}}),
                    0, true},
         .bulk_read_needs_support = true,
     },
@@ -313,6 +347,7 @@ inline constexpr std::array kProtocolTable{
         .title = "Protocol 2.0",
         .spelling = "2",
         .number = 2,
+        .type_value = 2,
         .maker = "ROBOTIS",
         // protocol2.md "Instruction Packet": "Length = the number of Parameters + 3"
         // (instruction + CRC).
@@ -343,7 +378,8 @@ inline constexpr std::array kProtocolTable{
                                   {Outcome::DataLimit, 0x06},
                                   {Outcome::AngleLimit, 0x06},
                                   {Outcome::Access, 0x07},
-                                  {Outcome::ReadOutside, 0x07}}),
+                                  {Outcome::ReadOutside, 0x07},
+                                  {Outcome::Locked, 0x07}}),
                    0x80, true},
         .chained_broadcast_ping = true,
         .ping_reports_model = true,
@@ -376,8 +412,63 @@ inline constexpr std::array kProtocolTable{
                         {Outcome::BadCheck, detail::refusal(RefusalClass::Checksum)},
                         {Outcome::BadParameters, detail::refusal(RefusalClass::Instruction)},
                         {Outcome::ReadOutside, detail::refusal(RefusalClass::Read)},
-                        {Outcome::NothingRegistered, detail::refusal(RefusalClass::None)}}),
+                        {Outcome::NothingRegistered, detail::refusal(RefusalClass::None)},
+                        {Outcome::Locked, detail::refusal(RefusalClass::Range)}}),
                    0, true},
+    },
+    ProtocolTraits{
+        .protocol = Protocol::Modbus,
+        .name = "modbus",
+        .title = "Modbus RTU",
+        .spelling = "modbus",
+        .number = 0,
+        .type_value = 10,
+        .maker = "ROBOTIS",
+        // modbus-rtu.md "RTU framing": address, function, data (0 ~ 252), CRC low byte first; a
+        // frame ends at 3.5 character times of silence, a gap over 1.5 breaks it; above
+        // 19,200 bit/s the silence is 1,750 us and the gap 750 us. LENGTH bounds here are the
+        // whole frame's: address, function and CRC at least, 256 bytes at most.
+        .frame = {.delimiting = Delimiting::Silence,
+                  .header = {},
+                  .header_size = 0,
+                  .field_bytes = 2,
+                  .min_length = detail::kModbusMinFrame,
+                  .max_length = detail::kModbusMaxFrame,
+                  .check = CheckKind::Crc16Modbus,
+                  .stuffing = false,
+                  .inter_byte_timeout = {},
+                  .silence_tenths = 35,
+                  .error_in_instruction_position = false,
+                  .gap_tenths = 15,
+                  .char_bits = 11,
+                  .fixed_timing_above_bps = 19200,
+                  .fixed_silence = std::chrono::microseconds(1750),
+                  .fixed_gap = std::chrono::microseconds(750)},
+        .min_unicast_id = kMinModbusAddress,
+        .max_unicast_id = kMaxModbusAddress,
+        .broadcast_id = kModbusBroadcastAddress,
+        .instructions = kModbusFunctions,
+        // Exception codes (modbus-rtu.md "Exception responses"; choices in docs/modbus.md): 01
+        // for a function it does not serve; 02 for an address the map refuses, a write into
+        // part of an item, a read outside the table; 03 for a value out of range or a malformed
+        // request; 04 when the device cannot do it now (EEPROM locked while torque is on). A
+        // frame with a bad CRC is ignored.
+        .status = {StatusShape::ExceptionCode,
+                   detail::codes({{Outcome::Access, 0x02},
+                                  {Outcome::DataLength, 0x02},
+                                  {Outcome::DataRange, 0x03},
+                                  {Outcome::DataLimit, 0x03},
+                                  {Outcome::AngleLimit, 0x03},
+                                  {Outcome::ResultFail, 0x04},
+                                  {Outcome::UnknownInstruction, 0x01},
+                                  {Outcome::BadCheck, 0x04},
+                                  {Outcome::BadParameters, 0x03},
+                                  {Outcome::ReadOutside, 0x02},
+                                  {Outcome::NothingRegistered, 0x01},
+                                  {Outcome::Locked, 0x04}}),
+                   0, false},
+        .whole_item_writes = true,
+        .register_bytes = 2,
     },
 };
 
@@ -413,11 +504,21 @@ constexpr std::optional<Protocol> protocol_from_spelling(std::string_view spelli
   return std::nullopt;
 }
 
-/// The protocol with DYNAMIXEL number `number` (a Protocol Type item's value, a JSON number);
-/// nullopt when no protocol has it (S.BUS, iBUS, RC-PWM on an XL330).
+/// The protocol with DYNAMIXEL number `number` (a JSON number); nullopt when no protocol has it.
 constexpr std::optional<Protocol> protocol_from_number(std::int64_t number) {
   for (const ProtocolTraits& row : kProtocolTable) {
     if (row.number != 0 && row.number == number) {
+      return row.protocol;
+    }
+  }
+  return std::nullopt;
+}
+
+/// The protocol a Protocol Type item's value selects; nullopt when no protocol of the bus has
+/// it (S.BUS, iBUS, RC-PWM on an XL330).
+constexpr std::optional<Protocol> protocol_from_type_value(std::int64_t value) {
+  for (const ProtocolTraits& row : kProtocolTable) {
+    if (row.type_value != 0 && row.type_value == value) {
       return row.protocol;
     }
   }
@@ -479,6 +580,11 @@ constexpr std::uint8_t status_error_byte(Protocol protocol, Outcome outcome,
       return code;
   }
   return code;
+}
+
+/// True when `id` is the ID every device of `protocol` hears (0xFE; Modbus RTU: 0).
+constexpr bool is_broadcast(Protocol protocol, std::uint8_t id) {
+  return id == traits(protocol).broadcast_id;
 }
 
 /// True when the device sends no status at all for `outcome` in `protocol` (a DeviceStatus

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -67,6 +68,15 @@ struct ItemSpec {
   std::optional<ItemBound> limit_min;  ///< dynamic limits: Data Limit Error beyond
   std::optional<ItemBound> limit_max;
   std::string unit;
+  /// The protocols whose map leaves this item out (the page prints "N/A" in their address
+  /// column: Return Delay Time in Modbus RTU): while a servo speaks one, the item is neither
+  /// read nor written through it and has no effect (docs/modbus.md).
+  std::vector<wire::Protocol> absent_in;
+
+  /// True unless `protocol` leaves the item out (absent_in).
+  bool present_in(wire::Protocol protocol) const {
+    return std::find(absent_in.begin(), absent_in.end(), protocol) == absent_in.end();
+  }
 
   /// One past the item's last byte.
   std::size_t end() const { return std::size_t{address} + size; }

@@ -245,14 +245,14 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
       return TableResult::fail(TableError::Access, describe_item(item) + " is read-only");
     }
     if (item.area == Area::Eeprom && eeprom_is_locked) {
-      return TableResult::fail(TableError::Access,
+      return TableResult::fail(TableError::Locked,
                                describe_item(item) + " is in EEPROM, which is locked " +
                                    (lock_ && get(*lock_) != 0 ? "by Lock" : "while torque is on"));
     }
     // 1.0 Lock: once set, it stays set until power is cycled (includes/control_table_lock.md).
     if (lock_ && t.item == *lock_ && get(*lock_) != 0 &&
         decode(item, std::span(t.bytes).first(item.size)) == 0) {
-      return TableResult::fail(TableError::Access, "Lock stays 1 until the power is cycled");
+      return TableResult::fail(TableError::Locked, "Lock stays 1 until the power is cycled");
     }
   }
   // protocol2.md "Data Length Error": a 2.0 write must cover the whole item. Protocol 1.0 has no

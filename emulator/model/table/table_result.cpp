@@ -7,6 +7,7 @@ wire::StatusError v2_status_error(TableError error) {
     case TableError::None:
       return wire::StatusError::None;
     case TableError::Access:
+    case TableError::Locked:
       return wire::StatusError::Access;
     case TableError::DataLength:
       return wire::StatusError::DataLength;
@@ -28,6 +29,7 @@ std::uint8_t v1_error_bits(TableError error) {
     case TableError::AngleLimit:
       return wire::v1_error::kAngleLimit;
     case TableError::Access:
+    case TableError::Locked:
     case TableError::DataLength:
     case TableError::DataRange:
     case TableError::DataLimit:
@@ -44,6 +46,8 @@ wire::Outcome outcome_of(TableError error) {
       return wire::Outcome::Ok;
     case TableError::Access:
       return wire::Outcome::Access;
+    case TableError::Locked:
+      return wire::Outcome::Locked;
     case TableError::DataLength:
       return wire::Outcome::DataLength;
     case TableError::DataRange:

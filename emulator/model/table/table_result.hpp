@@ -12,7 +12,8 @@ namespace dxlemu::model {
 /// error number or 1.0 error bits.
 enum class TableError {
   None,
-  Access,      ///< undefined address, read-only item, EEPROM locked (torque on, or 1.0 Lock)
+  Access,      ///< undefined address, read-only item
+  Locked,      ///< an EEPROM item while the EEPROM is locked (torque on, or 1.0 Lock)
   DataLength,  ///< 2.0 write covering only part of a multi-byte item
   DataRange,   ///< value outside the item's range or allowed values
   DataLimit,   ///< value beyond the item that limits it (e.g. Max Position Limit)

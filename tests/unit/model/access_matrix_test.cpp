@@ -38,7 +38,7 @@ TEST_CASE("XM430-W350 access rules", "[model][matrix]") {
   REQUIRE(write(t, 36, le(500, 2), v2) == TableError::None);       // PWM Limit 500
   CHECK(write(t, 100, le(-501, 2), v2) == TableError::DataLimit);
   REQUIRE(write(t, 64, {1}, v2) == TableError::None);  // torque on locks EEPROM
-  CHECK(write(t, 7, {2}, v2) == TableError::Access);
+  CHECK(write(t, 7, {2}, v2) == TableError::Locked);
   CHECK(write(t, 116, le(2000, 4), v2) == TableError::None);
   std::vector<std::uint8_t> out;
   CHECK(t.bus_read(660, 4, out).error == TableError::Access);  // past the end (661)
@@ -78,8 +78,8 @@ TEST_CASE("MX-28 (Protocol 1.0) access rules", "[model][matrix]") {
   REQUIRE(write(t, 24, {1}, v1) == TableError::None);  // torque on does not lock EEPROM ...
   CHECK(write(t, 3, {5}, v1) == TableError::None);
   REQUIRE(write(t, 47, {1}, v1) == TableError::None);  // ... Lock does
-  CHECK(write(t, 3, {6}, v1) == TableError::Access);
-  CHECK(write(t, 47, {0}, v1) == TableError::Access);
+  CHECK(write(t, 3, {6}, v1) == TableError::Locked);
+  CHECK(write(t, 47, {0}, v1) == TableError::Locked);
 }
 
 TEST_CASE("AX-12A access rules", "[model][matrix]") {
@@ -91,7 +91,7 @@ TEST_CASE("AX-12A access rules", "[model][matrix]") {
   CHECK(write(t, 30, le(1023, 2), v1) == TableError::None);
   CHECK(write(t, 45, {0}, v1) == TableError::Access);  // reserved
   REQUIRE(write(t, 47, {1}, v1) == TableError::None);
-  CHECK(write(t, 4, {1}, v1) == TableError::Access);        // Baud Rate locked by Lock
+  CHECK(write(t, 4, {1}, v1) == TableError::Locked);        // Baud Rate locked by Lock
   CHECK(write(t, 34, le(100, 2), v1) == TableError::None);  // RAM stays writable
 }
 
@@ -102,7 +102,7 @@ TEST_CASE("XL-320 access rules", "[model][matrix]") {
   CHECK(write(t, 4, {4}, v2) == TableError::DataRange);  // Baud Rate 0 ~ 3
   CHECK(write(t, 30, {0x00}, v2) == TableError::DataLength);
   REQUIRE(write(t, 24, {1}, v2) == TableError::None);  // XL-320 locks EEPROM with torque
-  CHECK(write(t, 3, {2}, v2) == TableError::Access);
+  CHECK(write(t, 3, {2}, v2) == TableError::Locked);
   CHECK(write(t, 37, le(0, 2), v2) == TableError::Access);  // Present Position is read-only
 }
 
@@ -115,7 +115,7 @@ TEST_CASE("2XL430-W250: EEPROM needs both axes off, Baud Rate and Protocol Type 
   model::link_axes(first, second);
   const auto v2 = Protocol::V2;
   REQUIRE(write(second, 64, {1}, v2) == TableError::None);  // the other axis's torque on
-  CHECK(write(first, 7, {3}, v2) == TableError::Access);
+  CHECK(write(first, 7, {3}, v2) == TableError::Locked);
   REQUIRE(write(second, 64, {0}, v2) == TableError::None);
   CHECK(write(first, 7, {3}, v2) == TableError::None);
   CHECK(second.get("id") == 1);  // IDs are per axis

@@ -104,7 +104,7 @@ TEST_CASE("EEPROM items refuse writes while torque is on (X, MX 2.0, XL-320, P, 
   ControlTable t(test::test_model());
   REQUIRE(write(t, 24, {1}) == TableError::None);
   CHECK(t.eeprom_locked());
-  CHECK(write(t, 7, {5}) == TableError::Access);
+  CHECK(write(t, 7, {5}) == TableError::Locked);
   CHECK(write(t, 28, le32(100)) == TableError::None);  // RAM stays writable
   REQUIRE(write(t, 24, {0}) == TableError::None);
   CHECK(write(t, 7, {5}) == TableError::None);
@@ -197,7 +197,7 @@ TEST_CASE("An EEPROM lock rule can be replaced (2XL430: both axes must be off)",
   ControlTable t(test::test_model());
   bool other_axis_on = true;
   t.set_eeprom_lock([&] { return t.get("torque_enable") != 0 || other_axis_on; });
-  CHECK(write(t, 7, {5}) == TableError::Access);
+  CHECK(write(t, 7, {5}) == TableError::Locked);
   other_axis_on = false;
   CHECK(write(t, 7, {5}) == TableError::None);
 }
@@ -220,8 +220,8 @@ TEST_CASE("Protocol 1.0 families lock EEPROM with Lock, which stays set until po
           TableError::None);  // torque on does not lock AX EEPROM
   CHECK(write(t, 7, {5}, Protocol::V1) == TableError::None);
   REQUIRE(write(t, 25, {1}, Protocol::V1) == TableError::None);
-  CHECK(write(t, 7, {6}, Protocol::V1) == TableError::Access);
-  CHECK(write(t, 25, {0}, Protocol::V1) == TableError::Access);
+  CHECK(write(t, 7, {6}, Protocol::V1) == TableError::Locked);
+  CHECK(write(t, 25, {0}, Protocol::V1) == TableError::Locked);
   t.load_initial(false);
   CHECK(write(t, 7, {6}, Protocol::V1) == TableError::None);
 }

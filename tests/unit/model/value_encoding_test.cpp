@@ -264,8 +264,8 @@ TEST_CASE("The loader refuses bad byte orders, sign bits and sign-magnitude rang
 }
 
 TEST_CASE("The loader names an unknown protocol and the ones it knows", "[model][loader]") {
-  CHECK(feetech_refusal([](json& j) { j["protocols"] = {"modbus"}; }) ==
-        "/protocols/0: unknown protocol \"modbus\" (known: 1, 2, \"feetech\")");
+  CHECK(feetech_refusal([](json& j) { j["protocols"] = {"canbus"}; }) ==
+        "/protocols/0: unknown protocol \"canbus\" (known: 1, 2, \"feetech\", \"modbus\")");
   CHECK(feetech_refusal([](json& j) { j["protocols"] = {3}; }) ==
         "/protocols/0: must be between 1 and 2, got 3");
   // A DYNAMIXEL family speaks no FEETECH, and the reverse (docs/feetech.md "One maker per port").
