@@ -118,7 +118,13 @@ void Bus::receive(std::span<const std::uint8_t> bytes, SimTime at, std::uint32_t
     }
     const auto base = static_cast<std::int64_t>(framer.fed());
     std::vector<wire::FramerEvent> events;
+    framer.set_line_rate(client_bps_);
     framer.feed(bytes, times, events);
+    // Without modelled delays simulated time may stand still (manual timing): a frame that
+    // ends at a silence ends with the write (docs/modbus.md "Timing").
+    if (timing_ == ReplyTiming::Immediate) {
+      framer.end_of_write(events);
+    }
     for (auto& event : events) {
       heard.emplace_back(static_cast<std::int64_t>(wire::offset_of(event)) - base,
                          std::move(event));
@@ -173,9 +179,12 @@ void Bus::schedule_expiry() {
     }
     // A packet found only when the partial one before it timed out is acted on now: its reply
     // is modelled from the expiry, not from when its bytes came (which would make it late by
-    // the whole timeout).
+    // the whole timeout). A frame that ends at a silence is found by the expiry itself, and
+    // line_end() counts the silence.
     for (wire::FramerEvent& event : events) {
-      if (auto* frame = std::get_if<wire::Frame>(&event)) {
+      auto* frame = std::get_if<wire::Frame>(&event);
+      if (frame != nullptr &&
+          wire::traits(frame->protocol).frame.delimiting != wire::Delimiting::Silence) {
         frame->last_byte_at = std::max(frame->last_byte_at, scheduler_.now());
       }
     }

@@ -172,8 +172,10 @@ class Bus {
   void settle(Node& node, bool reboot, sim::SimTime at);
   /// Reboots `node`'s servo at `at`: it is silent while it boots.
   void restart(Node& node, sim::SimTime at);
-  Reply reply_of(const Listener& listener, model::ServoResponse response) const;
-  std::vector<std::uint8_t> status_bytes(const Node& node,
+  /// The reply of `listener`'s servo to `heard`.
+  Reply reply_of(const HeardPacket& heard, const Listener& listener,
+                 model::ServoResponse response) const;
+  std::vector<std::uint8_t> status_bytes(const HeardPacket& heard, const Node& node,
                                          const model::ServoResponse& response) const;
   /// The protocol a node's status packets use (as it speaks when the instruction arrives).
   static wire::Protocol status_protocol(const Node& node);

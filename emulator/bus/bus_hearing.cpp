@@ -46,7 +46,7 @@ std::vector<std::uint8_t> Bus::fault_ids(const Packet& packet) {
   if (heard.decoded != nullptr && is_group_instruction(heard.protocol, heard.instruction)) {
     return wire::listed_ids(*heard.decoded);
   }
-  if (heard.id != wire::kBroadcastId) {
+  if (!wire::is_broadcast(heard.protocol, heard.id)) {
     return {heard.id};
   }
   std::vector<std::uint8_t> ids;
@@ -64,7 +64,7 @@ void Bus::hear(Packet& packet) {
   // (or their Secondary IDs), or every servo listening to a broadcast. The others take no part,
   // and no servo rule applies.
   const HeardPacket& heard = packet.heard;
-  const bool broadcast = heard.id == wire::kBroadcastId;
+  const bool broadcast = wire::is_broadcast(heard.protocol, heard.id);
   const std::vector<std::uint8_t> listed =
       heard.decoded != nullptr ? wire::listed_ids(*heard.decoded) : std::vector<std::uint8_t>{};
   std::vector<Listener> hearing;
@@ -123,7 +123,7 @@ void Bus::on_frame(const wire::Frame& frame) {
     ++stats_.decode_errors;
     // Group instructions are only heard from 0xFE and never answered there; a malformed one is
     // ignored like a well-formed one sent to a single ID.
-    if (frame.id != wire::kBroadcastId &&
+    if (!wire::is_broadcast(frame.protocol, frame.id) &&
         !is_group_instruction(frame.protocol, frame.instruction)) {
       refuse(packet, *error);
     }
@@ -156,7 +156,7 @@ void Bus::on_bad_check(const wire::FramingError& error) {
 void Bus::answer_bad_check(Packet& packet, std::optional<std::uint8_t> instruction) {
   // A servo answers a damaged packet sent to its ID with CRC Error (2.0) or the Checksum Error
   // bit (1.0); the ID is unverified, so whoever has that ID answers. Broadcast: silence.
-  if (packet.heard.id == wire::kBroadcastId) {
+  if (wire::is_broadcast(packet.heard.protocol, packet.heard.id)) {
     return;
   }
   hear(packet);
@@ -164,7 +164,7 @@ void Bus::answer_bad_check(Packet& packet, std::optional<std::uint8_t> instructi
   for (const Listener* l : addressed(packet, packet.heard.id)) {
     model::ServoResponse r = l->node->servo->bad_check(instruction);
     if (r.replies && l->hearing.answers) {
-      replies.push_back(reply_of(*l, std::move(r)));
+      replies.push_back(reply_of(packet.heard, *l, std::move(r)));
     }
   }
   answer(packet, {replies}, packet.heard.end);
@@ -175,7 +175,7 @@ void Bus::refuse(const Packet& packet, const wire::DecodeError& error) {
   for (const Listener* l : addressed(packet, packet.heard.id)) {
     model::ServoResponse r = l->node->servo->refuse(error, false);
     if (r.replies && l->hearing.answers) {
-      replies.push_back(reply_of(*l, std::move(r)));
+      replies.push_back(reply_of(packet.heard, *l, std::move(r)));
     }
   }
   answer(packet, {replies}, packet.heard.end);

@@ -16,7 +16,7 @@ using sim::SimTime;
 void Bus::single(const Packet& packet) {
   const wire::InstructionPacket& instruction = *packet.heard.decoded;
   const SimTime end = packet.heard.end;
-  const bool broadcast = instruction.id == wire::kBroadcastId;
+  const bool broadcast = wire::is_broadcast(instruction.protocol, instruction.id);
   std::vector<std::pair<const Listener*, model::Addressing>> targets;
   for (const Listener& l : packet.listening) {
     const model::Servo& servo = *l.node->servo;
@@ -42,7 +42,7 @@ void Bus::single(const Packet& packet) {
       faults_->wrote(packet.heard, s.index, write->address, write->data);
     }
     if (r.replies && l->hearing.answers) {
-      replies.push_back(reply_of(*l, std::move(r)));
+      replies.push_back(reply_of(packet.heard, *l, std::move(r)));
     } else {
       settle(s, r.reboot_after, end);
     }
@@ -64,7 +64,7 @@ void Bus::single(const Packet& packet) {
 }
 
 void Bus::group_read(const Packet& packet) {
-  if (packet.heard.id != wire::kBroadcastId) {
+  if (!wire::is_broadcast(packet.heard.protocol, packet.heard.id)) {
     return;  // "The Packet ID must be 0xFE": a servo ignores a Sync/Bulk Read sent to its own ID
   }
   const ReadRequest request = read_request(*packet.heard.decoded);
@@ -97,7 +97,7 @@ void Bus::group_read(const Packet& packet) {
         r.params.resize(part.length, 0);  // a failed read still fills its block (docs/bus.md)
         out.push_back({l->node, std::move(r), {}, l->hearing.extra_delay});
       } else {
-        out.push_back(reply_of(*l, std::move(r)));
+        out.push_back(reply_of(packet.heard, *l, std::move(r)));
       }
     }
     // Each device waits for the status of the one before it (protocol1.md "Bulk Read"): when a
@@ -164,7 +164,7 @@ void Bus::fast_read(const Packet& packet, const std::vector<ReadPart>& parts,
 }
 
 void Bus::group_write(const Packet& packet) {
-  if (packet.heard.id != wire::kBroadcastId) {
+  if (!wire::is_broadcast(packet.heard.protocol, packet.heard.id)) {
     return;  // "The Packet ID must be 0xFE"
   }
   const std::vector<std::uint8_t> listed = wire::listed_ids(*packet.heard.decoded);

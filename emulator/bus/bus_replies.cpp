@@ -8,6 +8,7 @@
 #include "bus/collision.hpp"
 #include "bus/line_timing.hpp"
 #include "wire/packet_encoder.hpp"
+#include "wire/rtu_timing.hpp"
 
 namespace dxlemu::bus {
 
@@ -23,10 +24,17 @@ SimDuration Bus::line_time(std::size_t bytes, std::uint32_t bps) const {
 // bytes of one write are stamped back to back (receive), so they take the first branch.
 SimTime Bus::line_end(const wire::Frame& frame) const {
   const std::size_t size = frame.raw.size();
+  // A frame that ends at a silence (Modbus RTU) is only known to have ended once the silence
+  // has passed: the device starts processing t3.5 after the last byte.
+  const wire::FrameShape& shape = wire::traits(frame.protocol).frame;
+  const SimDuration silence =
+      timing_ == ReplyTiming::Modelled && shape.delimiting == wire::Delimiting::Silence
+          ? wire::frame_silence(shape, client_bps_)
+          : SimDuration{0};
   if (frame.last_byte_at <= frame.first_byte_at + line_time(size - 1, client_bps_)) {
-    return frame.first_byte_at + line_time(size, client_bps_);
+    return frame.first_byte_at + line_time(size, client_bps_) + silence;
   }
-  return frame.last_byte_at + line_time(1, client_bps_);
+  return frame.last_byte_at + line_time(1, client_bps_) + silence;
 }
 
 SimDuration Bus::turnaround(const Reply& reply) const {
@@ -36,8 +44,9 @@ SimDuration Bus::turnaround(const Reply& reply) const {
   return reply.response.processing + reply.node->servo->return_delay() + reply.extra_delay;
 }
 
-Bus::Reply Bus::reply_of(const Listener& listener, model::ServoResponse response) const {
-  std::vector<std::uint8_t> bytes = status_bytes(*listener.node, response);
+Bus::Reply Bus::reply_of(const HeardPacket& heard, const Listener& listener,
+                         model::ServoResponse response) const {
+  std::vector<std::uint8_t> bytes = status_bytes(heard, *listener.node, response);
   return {listener.node, std::move(response), std::move(bytes), listener.hearing.extra_delay};
 }
 
@@ -45,10 +54,13 @@ wire::Protocol Bus::status_protocol(const Node& node) {
   return node.servo->protocol().value_or(wire::kDefaultProtocol);
 }
 
-std::vector<std::uint8_t> Bus::status_bytes(const Node& node,
+std::vector<std::uint8_t> Bus::status_bytes(const HeardPacket& heard, const Node& node,
                                             const model::ServoResponse& response) const {
-  return wire::encode_status(
-      {status_protocol(node), node.servo->id(), response.error, response.params});
+  // Modbus RTU answers with the request's function code and echoes parts of it.
+  const wire::Answering answering{heard.instruction,
+                                  heard.decoded != nullptr ? &heard.decoded->instruction : nullptr};
+  return wire::encode_reply(
+      {status_protocol(node), node.servo->id(), response.error, response.params}, answering);
 }
 
 void Bus::answer(const Packet& packet, const std::vector<ReplyGroup>& groups, SimTime start_after) {

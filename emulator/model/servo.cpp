@@ -18,7 +18,8 @@ bool only_reads(const wire::Instruction& instruction) {
       [](const auto& ins) {
         using T = std::decay_t<decltype(ins)>;
         return std::is_same_v<T, wire::Ping> || std::is_same_v<T, wire::Read> ||
-               std::is_base_of_v<wire::SyncRead, T> || std::is_base_of_v<wire::BulkRead, T>;
+               std::is_same_v<T, wire::Echo> || std::is_base_of_v<wire::SyncRead, T> ||
+               std::is_base_of_v<wire::BulkRead, T>;
       },
       instruction);
 }
@@ -99,8 +100,12 @@ void Servo::commit_deferred() {
   id_ = static_cast<std::uint8_t>(table_.get(items_.id));
   if (items_.protocol) {
     const std::int64_t v = table_.get(*items_.protocol);
-    // Another value (S.BUS, iBUS, RC-PWM, Modbus) is no protocol of the emulated bus.
+    // Another value (S.BUS, iBUS, RC-PWM; Modbus on a model whose file does not list it) is no
+    // protocol of the emulated bus.
     protocol_ = wire::protocol_from_type_value(v);
+    if (protocol_ && !spec().speaks(*protocol_)) {
+      protocol_.reset();
+    }
   } else {
     protocol_ = spec().protocols.front();
   }
@@ -110,8 +115,10 @@ void Servo::commit_deferred() {
               : spec().traits().protocol1_firmware
                   ? static_cast<std::uint32_t>(kV1BaudBase / (index + 1))
                   : 0;
+  // An item the protocol leaves out has no effect (Modbus RTU: "does not support the Return
+  // Delay Time(9) feature").
   const std::int64_t delay =
-      items_.return_delay_time
+      speaks_item(items_.return_delay_time)
           ? std::max(table_.get(*items_.return_delay_time), spec().traits().min_return_delay)
           : 0;
   return_delay_ = microseconds(delay * spec().return_delay_unit_us);
@@ -168,8 +175,15 @@ ServoResponse Servo::bad_check(std::optional<std::uint8_t> instruction) const {
   return r;
 }
 
+bool Servo::speaks_item(const std::optional<std::size_t>& item) const {
+  return item && spec().items[*item].present_in(protocol_.value_or(wire::kDefaultProtocol));
+}
+
 bool Servo::replies_to(bool is_read) const {
-  const auto& srl = items_.status_return_level;
+  // Status Return Level left out of the protocol (Modbus RTU): every unicast request is
+  // answered.
+  const std::optional<std::size_t> srl =
+      speaks_item(items_.status_return_level) ? items_.status_return_level : std::nullopt;
   // DYNAMIXEL Status Return Level (includes/control_table_status_return_lv.md): 0 answers Ping
   // only, 1 also Read, 2 everything; FEETECH Response level: 0 Ping and Read, 1 everything.
   const FamilyTraits& t = spec().traits();
@@ -235,6 +249,19 @@ ServoResponse Servo::execute(const wire::InstructionPacket& packet, Addressing a
         } else if constexpr (std::is_same_v<T, wire::Write>) {
           const TableResult result = instruction_write(ins.address, ins.data, packet.protocol);
           return from_table(result, write_time(ins.data.size()));
+        } else if constexpr (std::is_same_v<T, wire::WriteRead>) {
+          // Modbus Read/Write Multiple Registers: the write is done before the read; a refused
+          // write is the answer. Broadcast: the write only.
+          const TableResult result =
+              instruction_write(ins.write.address, ins.write.data, packet.protocol);
+          if (!result.ok() || broadcast) {
+            return from_table(result, write_time(ins.write.data.size()));
+          }
+          ServoResponse read = read_part(ins.read.address, ins.read.length);
+          read.processing += write_time(ins.write.data.size());
+          return read;
+        } else if constexpr (std::is_same_v<T, wire::Echo>) {
+          return from_table({}, microseconds(timing.read_us));
         } else if constexpr (std::is_same_v<T, wire::RegWrite>) {
           // The data is checked on arrival; a refused Reg Write registers nothing.
           const TableResult result = table_.check_write(ins.address, ins.data, packet.protocol);
@@ -312,7 +339,7 @@ ServoResponse Servo::execute_secondary(const wire::InstructionPacket& packet) {
 
 std::optional<std::uint8_t> Servo::secondary_id() const {
   const auto& item_index = items_.secondary_id;
-  if (!item_index) {
+  if (!speaks_item(item_index)) {
     return std::nullopt;
   }
   const std::int64_t v = table_.get(*item_index);
@@ -340,8 +367,9 @@ void Servo::expire_bus_watchdog() {
 ServoResponse Servo::refuse(const wire::DecodeError& error, bool broadcast) const {
   const bool is_read = error.instruction == wire::to_byte(wire::InstructionCode::Read);
   ServoResponse r =
-      respond(error.kind == wire::DecodeErrorKind::BadValue ? wire::Outcome::DataRange
-                                                            : wire::Outcome::BadParameters,
+      respond(error.kind == wire::DecodeErrorKind::BadValue     ? wire::Outcome::DataRange
+              : error.kind == wire::DecodeErrorKind::BadAddress ? wire::Outcome::ReadOutside
+                                                                : wire::Outcome::BadParameters,
               write_time(0));
   r.replies = r.replies && !broadcast && replies_to(is_read);
   return r;
@@ -356,7 +384,8 @@ ServoResponse Servo::read_part(std::uint16_t address, std::uint16_t length) {
     return respond(wire::Outcome::ReadOutside, processing);
   }
   std::vector<std::uint8_t> data;
-  const TableResult result = table_.bus_read(address, length, data);
+  const TableResult result =
+      table_.bus_read(address, length, data, protocol_.value_or(wire::kDefaultProtocol));
   // Every read the table refuses reaches outside it: past its end, or (Indirect Address) an
   // address it does not have.
   ServoResponse r =

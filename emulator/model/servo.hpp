@@ -176,6 +176,8 @@ class Servo {
   TableResult instruction_write(std::uint16_t address, std::span<const std::uint8_t> data,
                                 wire::Protocol protocol);
   std::optional<std::size_t> item(std::initializer_list<std::string_view> keys) const;
+  /// True when the servo has `item` and the protocol it speaks now reaches it (absent_in).
+  bool speaks_item(const std::optional<std::size_t>& item) const;
 
   ControlTable table_;
   MotionModel motion_;

@@ -155,6 +155,10 @@ struct ModelSpec {
   std::uint8_t firmware_version = 0;
   Family family = Family::X;              ///< its traits: traits()
   std::vector<wire::Protocol> protocols;  ///< default first
+  /// True when the model speaks `protocol` (lists it in `protocols`).
+  bool speaks(wire::Protocol protocol) const {
+    return std::find(protocols.begin(), protocols.end(), protocol) != protocols.end();
+  }
   std::uint8_t default_id = 1;
   std::vector<BaudRate> baud_rates;
   std::int64_t default_baud_index = 0;

@@ -36,7 +36,8 @@ ControlTable::ControlTable(std::shared_ptr<const ModelSpec> spec)
       validators_(spec_->items.size()),
       range_rules_(spec_->items.size()),
       torque_enable_(spec_->index_of("torque_enable")),
-      lock_(spec_->index_of("lock")) {
+      lock_(spec_->index_of("lock")),
+      id_(spec_->index_of("id")) {
   for (std::size_t i = 0; i < spec_->items.size(); ++i) {
     const ItemSpec& item = spec_->items[i];
     if (item.size > kMaxItemBytes) {
@@ -193,11 +194,20 @@ TableResult ControlTable::bus_read(std::uint16_t address, std::uint16_t length,
   return {};
 }
 
-TableResult ControlTable::plan_write(std::uint16_t address,
-                                     std::span<const std::uint8_t> data) const {
+TableResult ControlTable::plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                                     wire::Protocol protocol) const {
   touched_.clear();
+  const bool registers = wire::traits(protocol).register_bytes > 1;
   for (std::size_t i = 0; i < data.size(); ++i) {
     const std::size_t a = address + i;
+    if (registers) {
+      if (auto skip = skip_in_register(a, address, data.size(), protocol)) {
+        if (!skip->ok()) {
+          return *skip;
+        }
+        continue;
+      }
+    }
     const auto target = a < image_.size() ? resolve(static_cast<std::uint16_t>(a)) : std::nullopt;
     if (!target || item_at_[*target] == kNoItem) {
       return TableResult::fail(
@@ -279,6 +289,9 @@ TableResult ControlTable::validate(const std::vector<Touched>& touched,
     } else if (TableResult r = check_static_range(item, value, touched); !r.ok()) {
       return r;
     }
+    if (TableResult r = check_id(t.item, value, protocol); !r.ok()) {
+      return r;
+    }
     for (const Validator& v : validators_[t.item]) {
       TableResult r = v(t.item, value);
       if (!r.ok()) {
@@ -326,7 +339,7 @@ TableResult ControlTable::check_write(std::uint16_t address, std::span<const std
   if (running_hooks_) {
     throw std::logic_error("a write hook of " + spec_->name + " checked a write to its own table");
   }
-  const TableResult planned = plan_write(address, data);
+  const TableResult planned = plan_write(address, data, protocol);
   return planned.ok() ? validate(touched_, protocol) : planned;
 }
 

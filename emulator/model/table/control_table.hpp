@@ -81,6 +81,11 @@ class ControlTable {
   /// publishes its Present values when they change).
   TableResult bus_read(std::uint16_t address, std::uint16_t length,
                        std::vector<std::uint8_t>& out) const;
+  /// As bus_read, under the rules of `protocol`: where it addresses registers (Modbus RTU), a
+  /// register whose bytes all belong to items the protocol leaves out is an Access error, and a
+  /// byte of such an item beside another reads 0 (docs/modbus.md "The register map").
+  TableResult bus_read(std::uint16_t address, std::uint16_t length, std::vector<std::uint8_t>& out,
+                       wire::Protocol protocol) const;
 
   /// A bus Write of `data` from `address` under the rules of `protocol`. Every touched item is
   /// validated first (defined, writable, EEPROM unlocked, whole item in 2.0, range, limit,
@@ -175,8 +180,22 @@ class ControlTable {
     std::int64_t old_value = 0;                       // set when the write is committed
   };
 
-  /// Fills touched_ with the items `data` written from `address` touches, by item index.
-  TableResult plan_write(std::uint16_t address, std::span<const std::uint8_t> data) const;
+  /// Fills touched_ with the items `data` written from `address` touches, by item index. Where
+  /// `protocol` addresses registers, a byte it cannot write is skipped beside one it can.
+  TableResult plan_write(std::uint16_t address, std::span<const std::uint8_t> data,
+                         wire::Protocol protocol) const;
+  // The register map (register_map.cpp).
+  /// True when the byte at `address` belongs to an item `protocol` leaves out.
+  bool absent(std::size_t address, wire::Protocol protocol) const;
+  /// True when a write in `protocol` can reach the byte at `address`: an item it has, writable.
+  bool takes_write(std::size_t address, wire::Protocol protocol) const;
+  /// For a write of `length` bytes from `first` in `protocol`: true when the byte at `address`
+  /// is to be skipped (another byte of its register, inside the write, takes it); an Access
+  /// refusal when no byte of its register can be written; nullopt to write it.
+  std::optional<TableResult> skip_in_register(std::size_t address, std::size_t first,
+                                              std::size_t length, wire::Protocol protocol) const;
+  /// The ID range `protocol` allows: a write of another ID is refused as out of range.
+  TableResult check_id(std::size_t item, std::int64_t value, wire::Protocol protocol) const;
   TableResult validate(const std::vector<Touched>& touched, wire::Protocol protocol) const;
   /// Records EEPROM item `item`'s present value as kept when `keep` (with set_eeprom_keep).
   void keep_if_allowed(std::size_t item, bool keep);
@@ -200,6 +219,7 @@ class ControlTable {
   EepromLock eeprom_lock_;
   std::optional<std::size_t> torque_enable_;
   std::optional<std::size_t> lock_;
+  std::optional<std::size_t> id_;
   std::uint64_t eeprom_changes_ = 0;
   // The items of the write being planned, checked or committed: kept between writes so that a
   // write allocates nothing once one as long has been seen (Sync Write reaches every servo).
