@@ -157,14 +157,14 @@ def test_read_response_reads_by_expected_and_exception_length():
 
 
 def test_the_client_pings_reads_and_writes_table_bytes_as_registers():
-    # PH54-200-S500-R: Model Number 2,110 (0x083E) in register 0.
-    port = CannedPort(modbus.frame(1, 3, frame("02 08 3E")),
+    # PH54-200-S500-R: Model Number 2,020 (0x07E4) in register 0.
+    port = CannedPort(modbus.frame(1, 3, frame("02 07 E4")),
                       modbus.frame(1, 3, frame("04 08 00 00 00")),
                       modbus.frame(1, 0x10, frame("01 1A 00 02")),
                       frame("01 06 01 00 00 01 49 F6"))
     client = Client(port, protocol=MODBUS)
     ping = client.ping(1)
-    assert ping == (b"\x3e\x08", 0) and ping.value == 0x083E
+    assert ping == (b"\xe4\x07", 0) and ping.value == 2020
     assert port.written[0] == frame("01 03 00 00 00 01 84 0A")
     assert client.read(1, 564, 4).value == 2048
     assert port.written[1] == frame("01 03 01 1A 00 02 E4 30")
