@@ -567,7 +567,8 @@ local m = {
                                     base.DEC),
   data = ProtoField.bytes("modbus_rtu.data", "Data"),
   crc = ProtoField.uint16("modbus_rtu.crc", "CRC", base.HEX),
-  crc_status = ProtoField.uint8("modbus_rtu.crc.status", "CRC status", base.DEC, checksum_status),
+  crc_status = ProtoField.uint8("modbus_rtu.crc.status", "CRC status", base.DEC,
+                               checksum_status),
   truncated = ProtoField.bytes("modbus_rtu.truncated", "Incomplete frame"),
 }
 register(modbus, m)

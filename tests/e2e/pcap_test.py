@@ -354,8 +354,9 @@ class DissectorTest(unittest.TestCase):
         read_goal = bytes.fromhex("01 03 01 1A 00 02 E4 30")
         write_goal = bytes.fromhex("01 10 01 1A 00 02 04 08 00 00 00 7D 2C")
         torque_on = modbus.write_register_request(0, 0x0100, 1)
+        goal = modbus.frame(1, 3, bytes.fromhex("04 08 00 00 00"))
         rows = self.decode([(TO_SERVOS, MODBUS, 0, read_goal),
-                            (TO_CLIENT, MODBUS, 0, modbus.frame(1, 3, bytes.fromhex("04 08 00 00 00"))),
+                            (TO_CLIENT, MODBUS, 0, goal),
                             (TO_SERVOS, MODBUS, 0, write_goal),
                             (TO_CLIENT, MODBUS, 0, modbus.frame(1, 0x10, write_goal[2:6])),
                             (TO_SERVOS, MODBUS, 0, torque_on),
@@ -370,7 +371,8 @@ class DissectorTest(unittest.TestCase):
         decoded = [row[:13] for row in rows]
         self.assertEqual(decoded, [
             [["10"], ["0"], ["1"], ["0x03"], ["0"], ["282"], ["564"], ["2"], [], [], [], ["1"], []],
-            [["10"], ["1"], ["1"], ["0x03"], ["0"], [], [], [], ["4"], ["2048", "0"], [], ["1"], []],
+            [["10"], ["1"], ["1"], ["0x03"], ["0"], [], [], [], ["4"], ["2048", "0"], [], ["1"],
+             []],
             [["10"], ["0"], ["1"], ["0x10"], ["0"], ["282"], ["564"], ["2"], ["4"], ["2048", "0"],
              [], ["1"], []],
             [["10"], ["1"], ["1"], ["0x10"], ["0"], ["282"], ["564"], ["2"], [], [], [], ["1"], []],

@@ -103,19 +103,22 @@ class CopiesAgree(unittest.TestCase):
         for constant in MODBUS_FUNCTIONS:
             self.assertEqual(getattr(modbus, constant), codes[constant.lower()], constant)
         self.assertEqual(modbus.FUNCTION_NAMES, self.titles(modbus.PROTOCOL))
-        self.assertEqual((row["name"], row["spelling"], row["number"]), (modbus.PROTOCOL,) * 2 + (0,))
+        self.assertEqual((row["name"], row["spelling"], row["number"]),
+                         (modbus.PROTOCOL, modbus.PROTOCOL, 0))
         self.assertEqual(modbus.PROTOCOL_TYPE, row["type_value"])
         self.assertEqual(modbus.BROADCAST_ADDRESS, row["broadcast_id"])
         self.assertEqual((modbus.MIN_ADDRESS, modbus.MAX_ADDRESS),
                          (row["min_unicast_id"], row["max_unicast_id"]))
         self.assertEqual(modbus.REGISTER_BYTES, row["register_bytes"])
-        self.assertEqual((modbus.MIN_FRAME, modbus.MAX_FRAME), (row["min_length"], row["max_length"]))
+        self.assertEqual((modbus.MIN_FRAME, modbus.MAX_FRAME),
+                         (row["min_length"], row["max_length"]))
         self.assertEqual(row["check"], "crc16_modbus")
         self.assertEqual(row["delimiting"], "silence")
         self.assertEqual((modbus.SILENCE_TENTHS, modbus.GAP_TENTHS, modbus.CHAR_BITS),
                          (row["silence_tenths"], row["gap_tenths"], row["char_bits"]))
-        self.assertEqual((modbus.FIXED_TIMING_ABOVE_BPS, modbus.FIXED_SILENCE_US, modbus.FIXED_GAP_US),
-                         (row["fixed_timing_above_bps"], row["fixed_silence_us"], row["fixed_gap_us"]))
+        self.assertEqual(
+            (modbus.FIXED_TIMING_ABOVE_BPS, modbus.FIXED_SILENCE_US, modbus.FIXED_GAP_US),
+            (row["fixed_timing_above_bps"], row["fixed_silence_us"], row["fixed_gap_us"]))
         # Every exception code the emulator can send has its name in the package.
         sent = {code for code in row["status_codes"] if code != 0}
         self.assertLessEqual(sent, set(modbus.EXCEPTION_NAMES))
