@@ -11,15 +11,19 @@
 -- stuffing) packets, several per record if need be, with bytes outside any packet shown as
 -- garbage. Client-to-servos packets are instructions, servos-to-client packets are statuses.
 -- Records of a FEETECH port (pseudo-header protocol 0x46) are decoded as FEETECH's FT-SCS packets:
--- the 1.0 layout with FEETECH's instruction set and status bits.
+-- the 1.0 layout with FEETECH's instruction set and status bits. A record of a Modbus RTU port
+-- (pseudo-header protocol 10) is one Modbus RTU frame (silence-delimited: one frame per record):
+-- server address, function, its fields, exception code, CRC-16/MODBUS.
 -- Field names: dxlemu.* for the pseudo-header, dxl.* for the packets of the protocol "dynamixel",
--- feetech.* for those of the protocol "feetech" (docs/pcap.md lists them).
+-- feetech.* for those of the protocol "feetech", modbus_rtu.* for those of the protocol
+-- "modbus_rtu" (docs/pcap.md lists them).
 
 local bitops = bit32 or bit -- Lua 5.2's bit32, or the BitOp library of other Wireshark builds
 local band, bxor, lshift, rshift = bitops.band, bitops.bxor, bitops.lshift, bitops.rshift
 
 local PSEUDO_HEADER_BYTES = 4
 local FEETECH = 0x46 -- the pseudo-header's protocol byte of a FEETECH port
+local MODBUS = 10 -- the pseudo-header's protocol byte of a Modbus RTU port (Protocol Type 10)
 local PSEUDO_HEADER_VERSION = 1
 local TO_SERVOS, TO_CLIENT = 0, 1
 
@@ -59,6 +63,27 @@ local feetech_instruction_names = {
   [SYNC_READ] = "Sync Read", [SYNC_WRITE] = "Sync Write",
 }
 
+-- Modbus RTU (modbus-rtu.md): address 0 is broadcast; a frame is address, function, data, CRC.
+local MODBUS_BROADCAST = 0
+local MODBUS_MIN_FRAME = 4
+local MODBUS_EXCEPTION_FLAG = 0x80
+local READ_HOLDING_REGISTERS, READ_INPUT_REGISTERS = 0x03, 0x04
+local WRITE_SINGLE_REGISTER, DIAGNOSTICS = 0x06, 0x08
+local WRITE_MULTIPLE_REGISTERS, READ_WRITE_MULTIPLE_REGISTERS = 0x10, 0x17
+local modbus_function_names = {
+  [READ_HOLDING_REGISTERS] = "Read Holding Registers",
+  [READ_INPUT_REGISTERS] = "Read Input Registers",
+  [WRITE_SINGLE_REGISTER] = "Write Single Register",
+  [DIAGNOSTICS] = "Diagnostics",
+  [WRITE_MULTIPLE_REGISTERS] = "Write Multiple Registers",
+  [READ_WRITE_MULTIPLE_REGISTERS] = "Read/Write Multiple Registers",
+}
+-- modbus-rtu.md "Exception responses".
+local modbus_exception_names = {
+  [0x01] = "Illegal Function", [0x02] = "Illegal Data Address", [0x03] = "Illegal Data Value",
+  [0x04] = "Server Device Failure", [0x06] = "Server Device Busy",
+}
+
 -- Protocol 2.0 CRC-16: polynomial 0x8005, initial value 0, MSB first, no reflection
 -- (protocol2-crc.md; the same table as emulator/wire/crc16.cpp).
 local crc_table = {}
@@ -80,6 +105,22 @@ local function crc16(bytes)
   for i = 1, #bytes do
     crc = band(bxor(lshift(crc, 8), crc_table[band(bxor(rshift(crc, 8), bytes:byte(i)), 0xFF)]),
                0xFFFF)
+  end
+  return crc
+end
+
+-- CRC-16/MODBUS: polynomial 0xA001 (0x8005 reflected), initial value 0xFFFF, no final XOR.
+local function crc16_modbus(bytes)
+  local crc = 0xFFFF
+  for i = 1, #bytes do
+    crc = bxor(crc, bytes:byte(i))
+    for _ = 1, 8 do
+      if band(crc, 1) ~= 0 then
+        crc = bxor(rshift(crc, 1), 0xA001)
+      else
+        crc = rshift(crc, 1)
+      end
+    end
   end
   return crc
 end
@@ -121,7 +162,8 @@ local hf = {
   direction = ProtoField.uint8("dxlemu.direction", "Direction", base.DEC,
                                { [TO_SERVOS] = "client to servos", [TO_CLIENT] = "servos to client" }),
   protocol = ProtoField.uint8("dxlemu.protocol", "Protocol", base.DEC,
-                              { [0] = "unknown", [1] = "1.0", [2] = "2.0", [FEETECH] = "feetech" }),
+                              { [0] = "unknown", [1] = "1.0", [2] = "2.0", [FEETECH] = "feetech",
+                                [MODBUS] = "modbus" }),
   port = ProtoField.uint8("dxlemu.port", "Port index", base.DEC),
 }
 capture.fields = { hf.version, hf.direction, hf.protocol, hf.port }
@@ -494,6 +536,207 @@ local function dissect_packet(buf, pos, total, kind, direction, tree)
   return text
 end
 
+-- Modbus RTU frames (records of a Modbus port): filter name "modbus_rtu", since Wireshark's own
+-- Modbus dissectors are "mbrtu" and "modbus". Wireshark 4.0's mbrtu cannot tell a serial
+-- capture's request from its response when both look alike (Write Single Register, Diagnostics:
+-- the response echoes the request), and checks no CRC by default; the record's direction says
+-- which it is, so the frames are decoded here.
+local modbus = Proto("modbus_rtu", "Modbus RTU (dxlemu)")
+local m = {
+  type = ProtoField.uint8("modbus_rtu.packet_type", "Packet type", base.DEC,
+                          { [0] = "Request", [1] = "Response" }),
+  address = ProtoField.uint8("modbus_rtu.address", "Server address", base.DEC),
+  ["function"] = ProtoField.uint8("modbus_rtu.function", "Function code", base.HEX,
+                                  modbus_function_names, 0x7F),
+  exception = ProtoField.bool("modbus_rtu.exception", "Exception response", 8, nil,
+                              MODBUS_EXCEPTION_FLAG),
+  exception_code = ProtoField.uint8("modbus_rtu.exception_code", "Exception code", base.HEX,
+                                    modbus_exception_names),
+  subfunction = ProtoField.uint16("modbus_rtu.subfunction", "Sub-function", base.HEX,
+                                  { [0] = "Return Query Data" }),
+  start = ProtoField.uint16("modbus_rtu.start", "Starting register", base.DEC),
+  quantity = ProtoField.uint16("modbus_rtu.quantity", "Quantity of registers", base.DEC),
+  read_start = ProtoField.uint16("modbus_rtu.read_start", "Read starting register", base.DEC),
+  read_quantity = ProtoField.uint16("modbus_rtu.read_quantity", "Quantity to read", base.DEC),
+  write_start = ProtoField.uint16("modbus_rtu.write_start", "Write starting register", base.DEC),
+  write_quantity = ProtoField.uint16("modbus_rtu.write_quantity", "Quantity to write", base.DEC),
+  byte_count = ProtoField.uint8("modbus_rtu.byte_count", "Byte count", base.DEC),
+  register = ProtoField.uint16("modbus_rtu.register", "Register", base.DEC),
+  value = ProtoField.uint16("modbus_rtu.value", "Register value", base.DEC),
+  table_address = ProtoField.uint16("modbus_rtu.table_address", "Control-table address",
+                                    base.DEC),
+  data = ProtoField.bytes("modbus_rtu.data", "Data"),
+  crc = ProtoField.uint16("modbus_rtu.crc", "CRC", base.HEX),
+  crc_status = ProtoField.uint8("modbus_rtu.crc.status", "CRC status", base.DEC,
+                               checksum_status),
+  truncated = ProtoField.bytes("modbus_rtu.truncated", "Incomplete frame"),
+}
+register(modbus, m)
+local mx = {
+  bad_crc = ProtoExpert.new("modbus_rtu.crc.bad", "Bad CRC", expert.group.CHECKSUM,
+                            expert.severity.ERROR),
+  exception = ProtoExpert.new("modbus_rtu.exception.expert", "Exception response",
+                              expert.group.RESPONSE_CODE, expert.severity.WARN),
+  malformed = ProtoExpert.new("modbus_rtu.malformed", "Data do not fit the function",
+                              expert.group.MALFORMED, expert.severity.ERROR),
+  truncated = ProtoExpert.new("modbus_rtu.truncated.expert", "Frame shorter than 4 bytes",
+                              expert.group.MALFORMED, expert.severity.ERROR),
+}
+modbus.experts = { mx.bad_crc, mx.exception, mx.malformed, mx.truncated }
+
+-- Adds `count` big-endian register values from `p`'s byte `off`, numbered from `first` when
+-- the registers are known (nil in a read's response, which does not name them); returns them
+-- as text ("2048,0").
+local function modbus_values(tree, p, off, count, first)
+  local values = {}
+  for i = 0, count - 1 do
+    local range = p(off + 2 * i, 2)
+    local item = tree:add(m.value, range)
+    if first then
+      item:append_text(string.format(" (register %d, Modbus address %d)", first + i,
+                                     40001 + first + i))
+    end
+    values[#values + 1] = tostring(range:uint())
+  end
+  return table.concat(values, ",")
+end
+
+-- Adds a starting register and quantity (`which`: "", "read_" or "write_") at `p`'s byte `off`,
+-- with the control-table address the register starts at; returns both numbers.
+local function modbus_span(tree, p, off, which)
+  local start, quantity = p(off, 2):uint(), p(off + 2, 2):uint()
+  tree:add(m[which .. "start"], p(off, 2))
+  tree:add(m.table_address, p(off, 2), 2 * start):set_generated()
+  tree:add(m[which .. "quantity"], p(off + 2, 2))
+  return start, quantity
+end
+
+-- Decodes a frame's data `p` (nil when empty) for `fn` under `tree`; returns the Info text, or
+-- nil when the data do not fit the function's layout.
+local function modbus_data(tree, p, fn, is_response)
+  local n = p and p:len() or 0
+  local reads = fn == READ_HOLDING_REGISTERS or fn == READ_INPUT_REGISTERS
+  if is_response and (reads or fn == READ_WRITE_MULTIPLE_REGISTERS) then
+    if n < 1 or p(0, 1):uint() ~= n - 1 or (n - 1) % 2 ~= 0 then
+      return nil
+    end
+    tree:add(m.byte_count, p(0, 1))
+    return " values=" .. modbus_values(tree, p, 1, (n - 1) / 2, nil)
+  end
+  if reads then
+    if n ~= 4 then
+      return nil
+    end
+    local start, quantity = modbus_span(tree, p, 0, "")
+    return string.format(" start=%d qty=%d", start, quantity)
+  end
+  if fn == WRITE_SINGLE_REGISTER then
+    if n ~= 4 then
+      return nil
+    end
+    local register = p(0, 2):uint()
+    tree:add(m.register, p(0, 2))
+    tree:add(m.table_address, p(0, 2), 2 * register):set_generated()
+    return string.format(" reg=%d value=%s", register, modbus_values(tree, p, 2, 1, register))
+  end
+  if fn == WRITE_MULTIPLE_REGISTERS then
+    if is_response then
+      if n ~= 4 then
+        return nil
+      end
+      local start, quantity = modbus_span(tree, p, 0, "")
+      return string.format(" start=%d qty=%d", start, quantity)
+    end
+    if n < 5 or p(4, 1):uint() ~= n - 5 or (n - 5) % 2 ~= 0 then
+      return nil
+    end
+    local start, quantity = modbus_span(tree, p, 0, "")
+    tree:add(m.byte_count, p(4, 1))
+    return string.format(" start=%d qty=%d values=%s", start, quantity,
+                         modbus_values(tree, p, 5, (n - 5) / 2, start))
+  end
+  if fn == READ_WRITE_MULTIPLE_REGISTERS then
+    if n < 9 or p(8, 1):uint() ~= n - 9 or (n - 9) % 2 ~= 0 then
+      return nil
+    end
+    local read_start, read_quantity = modbus_span(tree, p, 0, "read_")
+    local write_start, write_quantity = modbus_span(tree, p, 4, "write_")
+    tree:add(m.byte_count, p(8, 1))
+    return string.format(" read start=%d qty=%d write start=%d qty=%d values=%s", read_start,
+                         read_quantity, write_start, write_quantity,
+                         modbus_values(tree, p, 9, (n - 9) / 2, write_start))
+  end
+  if fn == DIAGNOSTICS then
+    if n < 2 then
+      return nil
+    end
+    tree:add(m.subfunction, p(0, 2))
+    if n > 2 then
+      tree:add(m.data, p(2, n - 2))
+    end
+    return string.format(" sub=0x%04x data=%d bytes", p(0, 2):uint(), n - 2)
+  end
+  if n > 0 then
+    tree:add(m.data, p)
+  end
+  return n > 0 and string.format(" data=%d bytes", n) or ""
+end
+
+-- Dissects the record's line bytes `frame` as one Modbus RTU frame; returns its Info text.
+local function dissect_modbus(frame, direction, tree)
+  local total = frame:len()
+  if total < MODBUS_MIN_FRAME then
+    local item = tree:add(m.truncated, frame)
+    item:add_proto_expert_info(mx.truncated)
+    return "incomplete frame"
+  end
+  local is_response = direction == TO_CLIENT
+  local ptree = tree:add(modbus, frame)
+  ptree:add(m.type, frame, is_response and 1 or 0):set_generated()
+  local address = frame(0, 1):uint()
+  local aitem = ptree:add(m.address, frame(0, 1))
+  if address == MODBUS_BROADCAST then
+    aitem:append_text(" (broadcast)")
+  end
+  local code = frame(1, 1):uint()
+  local fn = band(code, 0x7F)
+  local fitem = ptree:add(m["function"], frame(1, 1))
+  fitem:add(m.exception, frame(1, 1))
+  local name = modbus_function_names[fn] or string.format("function 0x%02x", fn)
+  local text = string.format("%s addr=%d %s", is_response and "Response" or "Request", address,
+                             name)
+  local p = total > MODBUS_MIN_FRAME and frame(2, total - MODBUS_MIN_FRAME) or nil
+  if band(code, MODBUS_EXCEPTION_FLAG) ~= 0 then
+    if p and p:len() == 1 then
+      local exception = p:uint()
+      local item = ptree:add(m.exception_code, p)
+      local exception_name = modbus_exception_names[exception] or "unknown"
+      item:add_proto_expert_info(mx.exception, string.format("Exception 0x%02x %s", exception,
+                                                             exception_name))
+      text = text .. string.format(" exception 0x%02x %s", exception, exception_name)
+    else
+      if p then
+        ptree:add(m.data, p)
+      end
+      ptree:add_proto_expert_info(mx.malformed)
+      text = text .. " malformed exception"
+    end
+  else
+    local more = modbus_data(ptree, p, fn, is_response)
+    if more == nil then
+      ptree:add(m.data, p or frame(2, 0))
+      ptree:add_proto_expert_info(mx.malformed)
+      more = " malformed data"
+    end
+    text = text .. more
+  end
+  local range = frame(total - 2, 2)
+  text = text .. verify(ptree:add_le(m.crc, range), ptree, m.crc_status, range, range:le_uint(),
+                        crc16_modbus(frame:raw(0, total - 2)), mx.bad_crc, "CRC", "%04x")
+  ptree:append_text(", " .. text)
+  return text
+end
+
 function capture.dissector(buf, pinfo, tree)
   local len = buf:len()
   if len < PSEUDO_HEADER_BYTES then
@@ -516,6 +759,15 @@ function capture.dissector(buf, pinfo, tree)
   pinfo.cols.dst = direction == TO_SERVOS and servos or "client"
   if version ~= PSEUDO_HEADER_VERSION then
     vitem:add_proto_expert_info(ef.version)
+    return len
+  end
+  if hint == MODBUS then
+    pinfo.cols.protocol = "Modbus RTU"
+    if len > PSEUDO_HEADER_BYTES then
+      pinfo.cols.info = dissect_modbus(buf(PSEUDO_HEADER_BYTES), direction, tree)
+    else
+      pinfo.cols.info = dissect_modbus(buf(0, 0), direction, tree)
+    end
     return len
   end
 

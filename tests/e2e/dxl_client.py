@@ -21,15 +21,17 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 
+from dxlemu import modbus  # noqa: E402
 from dxlemu.codec import crc16, packet1, packet2, stuff, unstuff  # noqa: E402
 from dxlemu.control import Control, ControlError  # noqa: E402
 from dxlemu.daemon import DaemonError, DaemonProcess, timeout_scale, wrapper_command  # noqa: E402
 from dxlemu.port import BAUD_RATES as BAUD  # noqa: E402
 from dxlemu.port import Port  # noqa: E402
+from dxlemu.protocol import Client  # noqa: E402
 
-__all__ = ["BAUD", "Control", "ControlError", "Daemon", "DaemonError", "DaemonProcess", "Port",
-           "assert_unanswered", "crc16", "dxlemu_command", "heard", "packet1", "packet2", "stuff",
-           "timeout_scale", "unstuff"]
+__all__ = ["BAUD", "Client", "Control", "ControlError", "Daemon", "DaemonError", "DaemonProcess",
+           "Port", "assert_unanswered", "crc16", "dxlemu_command", "heard", "modbus", "packet1",
+           "packet2", "stuff", "timeout_scale", "unstuff"]
 
 BINARY = os.environ.get("DXLEMU_BIN", "build/emulator/dxlemu")
 

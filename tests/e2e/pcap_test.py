@@ -16,7 +16,8 @@ import time
 import unittest
 from pathlib import Path
 
-from dxl_client import Control, Daemon, Port, crc16, packet1, packet2
+from dxl_client import (Client, Control, Daemon, Port, assert_unanswered, crc16, dxlemu_command,
+                        modbus, packet1, packet2)
 
 PING, READ, WRITE, SYNC_READ, FAST_SYNC_READ, STATUS = 0x01, 0x02, 0x03, 0x82, 0x8A, 0x55
 PRESENT_POSITION, GOAL_POSITION = 132, 116
@@ -25,6 +26,7 @@ TO_SERVOS, TO_CLIENT = 0, 1
 # replies have a time of their own, known to the nanosecond.
 STEP_NS = 1_234_567
 FEETECH = 0x46  # the pseudo-header's protocol byte of a FEETECH port
+MODBUS = 10  # the pseudo-header's protocol byte of a Modbus RTU port (Protocol Type 10)
 LUA = Path(__file__).resolve().parents[2] / "scripts" / "dxlemu.lua"
 TSHARK = shutil.which("tshark")
 
@@ -175,6 +177,72 @@ class CaptureTest(unittest.TestCase):
         self.assertEqual([row[1] for i, row in enumerate(rows) if i not in (6, 7)], [[]] * 10)
 
 
+def daemon_speaks_modbus():
+    """True when this dxlemu serves Modbus RTU (`dxlemu models --protocol modbus` lists models)."""
+    result = subprocess.run(dxlemu_command("models", "--protocol", "modbus"), capture_output=True,
+                            text=True, timeout=60)
+    return result.returncode == 0 and "ph54-200-s500-r" in result.stdout
+
+
+@unittest.skipUnless(daemon_speaks_modbus(), "this dxlemu does not serve --protocol modbus yet")
+class ModbusCaptureTest(unittest.TestCase):
+    """The real daemon's capture of a DYNAMIXEL-P speaking Modbus RTU: reads, a write, an
+    exception response and a frame with a bad CRC (ignored), decoded by the dissector."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        link = os.path.join(cls.dir.name, "dxl0")
+        cls.pcap = os.path.join(cls.dir.name, "capture.pcap")
+        control_path = os.path.join(cls.dir.name, "control.sock")
+        daemon = Daemon("--link", link, "--pcap", cls.pcap, "--servo", "ph54-200-s500-r:1",
+                        "--protocol", "modbus", "--timing", "manual", "--control", control_path)
+        try:
+            control = Control(control_path)
+            port = Port(link)
+            client = Client(port, protocol=modbus.PROTOCOL)
+            cls.model = client.ping(1).value
+            cls.goal = client.read(1, 564, 4).value
+            client.write_register(1, 0x0100, 1)  # Torque Enable
+            try:
+                client.read_registers(1, 0x7FFF, 1)
+                cls.refusal = None
+            except modbus.ModbusException as error:
+                cls.refusal = error.code
+            bad = bytearray(modbus.read_registers_request(1, 0, 1))
+            bad[-1] ^= 0xFF
+            assert_unanswered(control, port, bytes(bad))
+            port.close()
+            control.close()
+        finally:
+            cls.exit_code = daemon.stop()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def test_the_servo_answers_as_a_modbus_server(self):
+        self.assertEqual(self.exit_code, 0)
+        self.assertEqual(self.model, 2020)  # PH54-200-S500-R
+        self.assertEqual(self.refusal, modbus.ILLEGAL_DATA_ADDRESS)
+
+    def test_every_record_is_a_modbus_frame_wireshark_decodes(self):
+        _, records = read_pcap(self.pcap)
+        self.assertEqual({record[2] for _, record in records}, {MODBUS})
+        rows = tshark(self.pcap, "modbus_rtu.packet_type", "modbus_rtu.address",
+                      "modbus_rtu.function", "modbus_rtu.exception_code",
+                      "modbus_rtu.crc.status")
+        self.assertEqual([row[:3] for row in rows], [
+            [["0"], ["1"], ["0x03"]], [["1"], ["1"], ["0x03"]],  # Ping: Model Number
+            [["0"], ["1"], ["0x03"]], [["1"], ["1"], ["0x03"]],  # Goal Position
+            [["0"], ["1"], ["0x06"]], [["1"], ["1"], ["0x06"]],  # Torque Enable
+            [["0"], ["1"], ["0x03"]], [["1"], ["1"], ["0x03"]],  # refused
+            [["0"], ["1"], ["0x03"]],                            # bad CRC: no response
+        ])
+        self.assertEqual(rows[7][3], ["0x02"])
+        self.assertEqual([row[4] for row in rows], [["1"]] * 8 + [["0"]])
+
+
 class DissectorTest(unittest.TestCase):
     """The dissector on hand-made records: what the daemon writes rarely, or never."""
 
@@ -279,6 +347,67 @@ class DissectorTest(unittest.TestCase):
         self.assertEqual(rows[1][9], ["Status error 0x24"])
         self.assertEqual(rows[2][6], ["0"])
         self.assertTrue(rows[2][9][0].startswith("Bad checksum"))
+
+    def test_modbus_records_decode_as_modbus_rtu_frames(self):
+        # modbus-rtu.md "Frames (computed)": read Goal Position, its answer, Goal Position = 2048,
+        # the answer, Torque Enable on broadcast, a read refused with Illegal Data Address.
+        read_goal = bytes.fromhex("01 03 01 1A 00 02 E4 30")
+        write_goal = bytes.fromhex("01 10 01 1A 00 02 04 08 00 00 00 7D 2C")
+        torque_on = modbus.write_register_request(0, 0x0100, 1)
+        goal = modbus.frame(1, 3, bytes.fromhex("04 08 00 00 00"))
+        rows = self.decode([(TO_SERVOS, MODBUS, 0, read_goal),
+                            (TO_CLIENT, MODBUS, 0, goal),
+                            (TO_SERVOS, MODBUS, 0, write_goal),
+                            (TO_CLIENT, MODBUS, 0, modbus.frame(1, 0x10, write_goal[2:6])),
+                            (TO_SERVOS, MODBUS, 0, torque_on),
+                            (TO_SERVOS, MODBUS, 0, bytes.fromhex("01 03 00 00 00 0A C5 CD")),
+                            (TO_CLIENT, MODBUS, 0, bytes.fromhex("01 83 02 C0 F1"))],
+                           "dxlemu.protocol", "modbus_rtu.packet_type", "modbus_rtu.address",
+                           "modbus_rtu.function", "modbus_rtu.exception", "modbus_rtu.start",
+                           "modbus_rtu.table_address", "modbus_rtu.quantity",
+                           "modbus_rtu.byte_count", "modbus_rtu.value",
+                           "modbus_rtu.exception_code", "modbus_rtu.crc.status", "dxl.id",
+                           "_ws.col.Protocol", "_ws.col.Info", "_ws.expert.message")
+        decoded = [row[:13] for row in rows]
+        self.assertEqual(decoded, [
+            [["10"], ["0"], ["1"], ["0x03"], ["0"], ["282"], ["564"], ["2"], [], [], [], ["1"], []],
+            [["10"], ["1"], ["1"], ["0x03"], ["0"], [], [], [], ["4"], ["2048", "0"], [], ["1"],
+             []],
+            [["10"], ["0"], ["1"], ["0x10"], ["0"], ["282"], ["564"], ["2"], ["4"], ["2048", "0"],
+             [], ["1"], []],
+            [["10"], ["1"], ["1"], ["0x10"], ["0"], ["282"], ["564"], ["2"], [], [], [], ["1"], []],
+            [["10"], ["0"], ["0"], ["0x06"], ["0"], [], ["512"], [], [], ["1"], [], ["1"], []],
+            [["10"], ["0"], ["1"], ["0x03"], ["0"], ["0"], ["0"], ["10"], [], [], [], ["1"], []],
+            [["10"], ["1"], ["1"], ["0x03"], ["1"], [], [], [], [], [], ["0x02"], ["1"], []],
+        ])
+        self.assertEqual({row[13][0] for row in rows}, {"Modbus RTU"})
+        self.assertIn("Request addr=1 Read Holding Registers start=282 qty=2", rows[0][14][0])
+        self.assertIn("Response addr=1 Read Holding Registers values=2048,0", rows[1][14][0])
+        self.assertIn("Request addr=0 Write Single Register reg=256 value=1", rows[4][14][0])
+        self.assertIn("exception 0x02 Illegal Data Address", rows[6][14][0])
+        self.assertEqual(rows[6][15], ["Exception 0x02 Illegal Data Address"])
+        self.assertEqual([row[15] for row in rows[:6]], [[]] * 6)
+
+    def test_modbus_diagnostics_read_write_a_bad_crc_and_a_short_frame(self):
+        echo = modbus.diagnostics_request(7, b"\x12\x34")
+        read_write = modbus.read_write_registers_request(7, 0, 1, 256, [1])
+        bad = bytearray(bytes.fromhex("01 06 01 00 00 01 49 F6"))
+        bad[-2] ^= 0xFF
+        rows = self.decode([(TO_SERVOS, MODBUS, 0, echo), (TO_CLIENT, MODBUS, 0, echo),
+                            (TO_SERVOS, MODBUS, 0, read_write),
+                            (TO_SERVOS, MODBUS, 0, bytes(bad)),
+                            (TO_SERVOS, MODBUS, 0, b"\x01\x03")],
+                           "modbus_rtu.packet_type", "modbus_rtu.subfunction", "modbus_rtu.data",
+                           "modbus_rtu.read_start", "modbus_rtu.read_quantity",
+                           "modbus_rtu.write_start", "modbus_rtu.write_quantity",
+                           "modbus_rtu.crc.status", "modbus_rtu.truncated", "_ws.expert.message")
+        self.assertEqual(rows[0][:3] + rows[0][7:8], [["0"], ["0x0000"], ["1234"], ["1"]])
+        self.assertEqual(rows[1][:3] + rows[1][7:8], [["1"], ["0x0000"], ["1234"], ["1"]])
+        self.assertEqual(rows[2][3:8], [["0"], ["1"], ["256"], ["1"], ["1"]])
+        good = modbus.crc16(bad[:-2])
+        self.assertEqual(rows[3][7], ["0"])
+        self.assertEqual(rows[3][9], [f"Bad CRC 0x{good ^ 0xFF:04x}, expected 0x{good:04x}"])
+        self.assertEqual(rows[4][8:], [["0103"], ["Frame shorter than 4 bytes"]])
 
     def test_an_incomplete_packet_at_the_end_is_flagged(self):
         rows = self.decode([(TO_SERVOS, 2, 0, packet2(1, PING) + packet2(2, PING)[:6])],

@@ -1,9 +1,9 @@
 """The copies of the protocol table outside C++ agree with it.
 
 The emulator's protocol table (emulator/wire/protocol_table.hpp) is printed as JSON by
-dxlemu_print_protocol_table (argv[1]); the Python package (python/dxlemu/codec.py, feetech.py)
-and the Wireshark dissector (scripts/dxlemu.lua) keep their own copies of the codes and names,
-written from the protocol pages independently, so that each checks the other. This test fails
+dxlemu_print_protocol_table (argv[1]); the Python package (python/dxlemu/codec.py, feetech.py,
+modbus.py) and the Wireshark dissector (scripts/dxlemu.lua) keep their own copies of the codes and
+names, written from the protocol pages independently, so that each checks the other. This test fails
 when a protocol or an instruction is added to, or changed in, one of them and not the others.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 
-from dxlemu import codec, feetech  # noqa: E402  (after the path is set)
+from dxlemu import codec, feetech, modbus  # noqa: E402  (after the path is set)
 
 # FEETECH constants in dxlemu.feetech named otherwise than the table's snake_case name.
 FEETECH_ALIASES = {
@@ -29,6 +29,9 @@ FEETECH_ALIASES = {
 # DYNAMIXEL instruction constants dxlemu.codec defines (the others it does not send).
 CODEC_INSTRUCTIONS = ["PING", "READ", "WRITE", "REG_WRITE", "ACTION", "FACTORY_RESET", "REBOOT",
                       "CLEAR", "STATUS", "SYNC_READ", "SYNC_WRITE", "BULK_READ", "BULK_WRITE"]
+# dxlemu.modbus's function code constants: every function of the table, named as it names them.
+MODBUS_FUNCTIONS = ["READ_HOLDING_REGISTERS", "READ_INPUT_REGISTERS", "WRITE_SINGLE_REGISTER",
+                    "DIAGNOSTICS", "WRITE_MULTIPLE_REGISTERS", "READ_WRITE_MULTIPLE_REGISTERS"]
 FEETECH_INSTRUCTIONS = ["PING", "READ", "WRITE", "REG_WRITE", "ACTION", "RECOVERY", "RESTART",
                         "BACKUP", "STATUS_RESET", "POSITION_CALIBRATION", "SYNC_READ",
                         "SYNC_WRITE"]
@@ -73,7 +76,7 @@ class CopiesAgree(unittest.TestCase):
         return {i["code"]: i["title"] for i in self.table[spelling]["instructions"]}
 
     def test_the_table_has_the_protocols_the_copies_know(self) -> None:
-        self.assertEqual(sorted(self.table), ["1", "2", feetech.PROTOCOL])
+        self.assertEqual(sorted(self.table), ["1", "2", feetech.PROTOCOL, modbus.PROTOCOL])
 
     def test_python_dynamixel_codes_are_the_tables(self) -> None:
         for spelling in ("1", "2"):
@@ -92,6 +95,47 @@ class CopiesAgree(unittest.TestCase):
         for constant in FEETECH_INSTRUCTIONS:
             self.assertEqual(getattr(feetech, constant),
                              codes[FEETECH_ALIASES.get(constant, constant.lower())], constant)
+
+    def test_python_modbus_codes_names_addresses_and_timing_are_the_tables(self) -> None:
+        row = self.table[modbus.PROTOCOL]
+        codes = self.codes(modbus.PROTOCOL)
+        self.assertEqual({c.lower() for c in MODBUS_FUNCTIONS}, set(codes))
+        for constant in MODBUS_FUNCTIONS:
+            self.assertEqual(getattr(modbus, constant), codes[constant.lower()], constant)
+        self.assertEqual(modbus.FUNCTION_NAMES, self.titles(modbus.PROTOCOL))
+        self.assertEqual((row["name"], row["spelling"], row["number"]),
+                         (modbus.PROTOCOL, modbus.PROTOCOL, 0))
+        self.assertEqual(modbus.PROTOCOL_TYPE, row["type_value"])
+        self.assertEqual(modbus.BROADCAST_ADDRESS, row["broadcast_id"])
+        self.assertEqual((modbus.MIN_ADDRESS, modbus.MAX_ADDRESS),
+                         (row["min_unicast_id"], row["max_unicast_id"]))
+        self.assertEqual(modbus.REGISTER_BYTES, row["register_bytes"])
+        self.assertEqual((modbus.MIN_FRAME, modbus.MAX_FRAME),
+                         (row["min_length"], row["max_length"]))
+        self.assertEqual(row["check"], "crc16_modbus")
+        self.assertEqual(row["delimiting"], "silence")
+        self.assertEqual((modbus.SILENCE_TENTHS, modbus.GAP_TENTHS, modbus.CHAR_BITS),
+                         (row["silence_tenths"], row["gap_tenths"], row["char_bits"]))
+        self.assertEqual(
+            (modbus.FIXED_TIMING_ABOVE_BPS, modbus.FIXED_SILENCE_US, modbus.FIXED_GAP_US),
+            (row["fixed_timing_above_bps"], row["fixed_silence_us"], row["fixed_gap_us"]))
+        # Every exception code the emulator can send has its name in the package.
+        sent = {code for code in row["status_codes"] if code != 0}
+        self.assertLessEqual(sent, set(modbus.EXCEPTION_NAMES))
+
+    def test_dissector_modbus_names_and_codes_are_the_tables_and_the_packages(self) -> None:
+        text = (ROOT / "scripts" / "dxlemu.lua").read_text()
+        constants = lua_constants(text)
+        row = self.table[modbus.PROTOCOL]
+        self.assertEqual(lua_table(text, "modbus_function_names", constants),
+                         self.titles(modbus.PROTOCOL))
+        # Exception names are no field of the table: the two copies check each other.
+        self.assertEqual(lua_table(text, "modbus_exception_names", constants),
+                         modbus.EXCEPTION_NAMES)
+        self.assertEqual(constants["MODBUS"], row["value"])
+        self.assertEqual(constants["MODBUS_BROADCAST"], row["broadcast_id"])
+        self.assertEqual(constants["MODBUS_MIN_FRAME"], row["min_length"])
+        self.assertEqual(constants["MODBUS_EXCEPTION_FLAG"], modbus.EXCEPTION_FLAG)
 
     def test_dissector_instruction_names_are_the_tables_titles(self) -> None:
         text = (ROOT / "scripts" / "dxlemu.lua").read_text()
