@@ -28,6 +28,9 @@ packages=(
   chromium            # the web interface's browser tests (tests/web), headless
   chromium-driver     # ... driven by Selenium through chromedriver
   python3-selenium    # ... from Python
+  python3-pymodbus    # Modbus RTU end-to-end tests (tests/e2e/modbus_test.py): an independent master
+  python3-serial-asyncio  # ... which pymodbus's serial client imports
+  mbpoll              # ... and libmodbus's command-line master
 )
 
 missing=()

@@ -6,6 +6,7 @@
 #include "app/daemon/bus_state.hpp"
 #include "model/table/item_encoding.hpp"
 #include "wire/instruction_decoder.hpp"
+#include "wire/modbus_codec.hpp"
 
 namespace dxlemu::scan {
 namespace {
@@ -156,19 +157,22 @@ class Scanner {
         progress_(std::to_string(bps) + " bps, Modbus RTU: address " + std::to_string(id) + "...");
       }
       const auto ident = static_cast<std::uint8_t>(id);
-      const auto head = link_.exchange({wire::Protocol::Modbus, ident, wire::Read{0, kModbusHeadLength}},
-                                       1, options_.timeout);
+      const auto head = link_.exchange(
+          {wire::Protocol::Modbus, ident, wire::Read{0, kModbusHeadLength}}, 1, options_.timeout);
       if (head.empty() || head.front().id != ident) {
         continue;
       }
-      if (head.front().params.size() != kModbusHeadLength) {
+      const auto bytes = wire::registers_read(head.front().params);
+      if (!bytes || bytes->size() != kModbusHeadLength) {
         progress_("address " + std::to_string(id) + " at " + std::to_string(bps) +
-                  " bps (Modbus RTU) answered exception " + std::to_string(head.front().error) +
+                  " bps (Modbus RTU) answered " +
+                  (head.front().error != 0 ? "exception " + std::to_string(head.front().error)
+                                           : std::string("a response of another length")) +
                   " to a read of its Model Number; left out");
         continue;
       }
       ++count;
-      add(identify_modbus(bps, ident, word(head.front().params[0], head.front().params[1])));
+      add(identify_modbus(bps, ident, word((*bytes)[0], (*bytes)[1])));
     }
     progress_(std::to_string(bps) + " bps, Modbus RTU: " + std::to_string(count) + " found");
   }
@@ -297,13 +301,19 @@ class Scanner {
         {servo.protocol, servo.id,
          wire::Read{static_cast<std::uint16_t>(first), static_cast<std::uint16_t>(end - first)}},
         1, options_.timeout);
-    // The error byte may report a hardware error (1.0, FEETECH) beside good data: the length
-    // tells whether the data came (a Modbus exception response carries none).
-    if (replies.empty() || replies.front().id != servo.id ||
-        replies.front().params.size() != end - first) {
+    if (replies.empty() || replies.front().id != servo.id) {
       return {};
     }
-    const std::vector<std::uint8_t>& params = replies.front().params;
+    // A Modbus response's data is a byte count and registers; an exception response has none.
+    std::vector<std::uint8_t> params = replies.front().params;
+    if (servo.protocol == wire::Protocol::Modbus) {
+      params = wire::registers_read(params).value_or(std::vector<std::uint8_t>{});
+    }
+    // The error byte may report a hardware error (1.0, FEETECH) beside good data: the length
+    // tells whether the data came.
+    if (params.size() != end - first) {
+      return {};
+    }
     return {params.begin() + static_cast<std::ptrdiff_t>(address - first),
             params.begin() + static_cast<std::ptrdiff_t>(address - first + length)};
   }

@@ -222,6 +222,13 @@ DecodeResult<InstructionPacket> decode_modbus_request(const Frame& frame) {
   return InstructionPacket{frame.protocol, frame.id, std::get<Instruction>(std::move(decoded))};
 }
 
+std::optional<std::vector<std::uint8_t>> registers_read(std::span<const std::uint8_t> data) {
+  if (data.empty() || data[0] % kRegisterBytes != 0 || data.size() != 1U + data[0]) {
+    return std::nullopt;
+  }
+  return table_order(data.subspan(1));
+}
+
 DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame) {
   const auto fail = [&](const std::string& rule) {
     return DecodeError{DecodeErrorKind::NotStatus, frame.id, frame.instruction,
@@ -249,12 +256,19 @@ DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame) {
     out.data = p;
     return out;
   }
-  if (p.empty() || p[0] % kRegisterBytes != 0 || p.size() != 1U + p[0]) {
+  auto bytes = registers_read(p);
+  if (!bytes) {
     return fail("to a read needs a byte count and that many bytes of whole registers, got " +
                 std::to_string(p.size()) + " data bytes");
   }
-  out.data = table_order(std::span(p).subspan(1));
+  out.data = std::move(*bytes);
   return out;
+}
+
+StatusPacket decode_modbus_status(const Frame& frame) {
+  const bool exception = (frame.instruction & kExceptionBit) != 0 && !frame.params.empty();
+  return StatusPacket{frame.protocol, frame.id, exception ? frame.params.front() : std::uint8_t{0},
+                      exception ? std::vector<std::uint8_t>{} : frame.params};
 }
 
 std::vector<std::uint8_t> encode_modbus_frame(std::uint8_t address, std::uint8_t function,

@@ -13,6 +13,7 @@
 #include "wire/frame.hpp"
 #include "wire/instruction.hpp"
 #include "wire/instruction_decoder.hpp"
+#include "wire/status.hpp"
 
 namespace dxlemu::wire {
 
@@ -42,6 +43,16 @@ struct ModbusResponse {
 /// number; the others are taken as they come. A frame that does not fit its function's layout,
 /// or answers a function the DYNAMIXEL servers do not serve, is NotStatus.
 DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame);
+
+/// The control-table bytes the data of a read's normal response carries (a byte count, then
+/// that many bytes of registers, each big-endian), each register's low byte first; nullopt when
+/// the data is not that (decode_modbus_status() leaves a response's data as it came).
+std::optional<std::vector<std::uint8_t>> registers_read(std::span<const std::uint8_t> data);
+
+/// A Modbus response as a status: the exception code as its error (0 for a normal response)
+/// and the response's data after the function code as its parameters (for traces; a master
+/// that needs the registers reads them from the data).
+StatusPacket decode_modbus_status(const Frame& frame);
 
 /// Builds a Modbus response frame from `address`, answering function `function`: an exception
 /// response when `exception` is not 0, else the normal response, which reads `request` (the
