@@ -21,8 +21,8 @@ void break_check(std::vector<std::uint8_t>& packet);
 void flip_bits(std::vector<std::uint8_t>& bytes, std::uint32_t bits, sim::RandomStream& stream);
 
 /// Rewrites the ID of status packet `packet` (of `protocol`; a Modbus response's address) to `id`
-/// and recomputes its check, so that the client receives a valid packet from the wrong servo. A packet too short to hold an
-/// ID is left alone.
+/// and recomputes its check, so that the client receives a valid packet from the wrong servo. A
+/// packet too short to hold an ID is left alone.
 void set_id(std::vector<std::uint8_t>& packet, wire::Protocol protocol, std::uint8_t id);
 
 /// `count` bytes drawn from `stream`.

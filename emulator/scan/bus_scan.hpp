@@ -60,8 +60,8 @@ std::vector<std::uint32_t> default_scan_bauds(const app::ModelLibrary& library);
 /// broadcast Ping, then a 1.0 Ping of every ID, then (when asked) a Modbus read of registers 0
 /// and 1 (Model Number) from every address; each servo found is identified by its model number
 /// and firmware and its non-volatile items are read. Sends only Ping and Read (Modbus: Read
-/// Holding Registers): nothing on the bus changes. `progress` gets a line of text now and then; servos of a model the library
-/// lacks are returned with no spec and no items.
+/// Holding Registers): nothing on the bus changes. `progress` gets a line of text now and then;
+/// servos of a model the library lacks are returned with no spec and no items.
 std::vector<FoundServo> scan_bus(ScanLink& link, const app::ModelLibrary& library,
                                  const ScanOptions& options,
                                  const std::function<void(const std::string&)>& progress);

@@ -234,8 +234,8 @@ DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame) {
     return DecodeError{DecodeErrorKind::NotStatus, frame.id, frame.instruction,
                        "Modbus response " + rule};
   };
-  ModbusResponse out{frame.id, static_cast<std::uint8_t>(frame.instruction & ~kExceptionBit), 0,
-                     {}};
+  ModbusResponse out{
+      frame.id, static_cast<std::uint8_t>(frame.instruction & ~kExceptionBit), 0, {}};
   const std::vector<std::uint8_t>& p = frame.params;
   if ((frame.instruction & kExceptionBit) != 0) {
     if (p.size() != 1) {

@@ -63,7 +63,7 @@ struct CommandLine {
   std::vector<RobotRequest> robots;
   /// --hand of run without --robot (with --config or --servo), each value as given.
   std::vector<std::string> hands;
-  std::optional<std::uint32_t> baud;  ///< --baud
+  std::optional<std::uint32_t> baud;    ///< --baud
   std::optional<std::string> protocol;  ///< --protocol: a wire::protocol_spellings() entry
   // run: the daemon.
   RunOptions options;  ///< what --state, --control, --trace, --pcap, --scenario, --seed set

@@ -555,10 +555,10 @@ wire::Protocol configured_protocol(const ServoConfig& servo, const model::ModelS
 void check_servo_id(const ServoConfig& servo, const model::ModelSpec& spec) {
   const wire::ProtocolTraits& row = wire::traits(configured_protocol(servo, spec));
   if (servo.id < row.min_unicast_id || servo.id > row.max_unicast_id) {
-    throw std::invalid_argument(
-        "servo " + servo.model + ":" + std::to_string(servo.id) + " speaks " +
-        std::string(row.title) + ", whose IDs are " + std::to_string(row.min_unicast_id) + " ~ " +
-        std::to_string(row.max_unicast_id));
+    throw std::invalid_argument("servo " + servo.model + ":" + std::to_string(servo.id) +
+                                " speaks " + std::string(row.title) + ", whose IDs are " +
+                                std::to_string(row.min_unicast_id) + " ~ " +
+                                std::to_string(row.max_unicast_id));
   }
 }
 

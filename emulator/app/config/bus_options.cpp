@@ -69,8 +69,8 @@ void apply_bus_options(BusConfig& config, const ModelLibrary& library,
         try {
           check_servo_id(servo, *spec);
         } catch (const std::invalid_argument& e) {
-          throw std::invalid_argument("--protocol " + std::string(wire::traits(*protocol).spelling) +
-                                      ": " + e.what());
+          throw std::invalid_argument(
+              "--protocol " + std::string(wire::traits(*protocol).spelling) + ": " + e.what());
         }
       }
     }

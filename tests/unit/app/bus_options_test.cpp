@@ -77,8 +77,9 @@ TEST_CASE("A --baud or --protocol a model cannot do is refused naming the option
   app::BusConfig config = one_port({{"xm430-w350", 1, {}}});
   CHECK_THROWS_WITH(app::apply_bus_options(config, test::shipped_models(), 1234, std::nullopt),
                     Catch::StartsWith("--baud: xm430-w350 cannot do 1234 bps"));
-  CHECK_THROWS_WITH(app::apply_bus_options(config, test::shipped_models(), 1234, wire::Protocol::V2),
-                    Catch::StartsWith("--baud/--protocol: xm430-w350 cannot do 1234 bps"));
+  CHECK_THROWS_WITH(
+      app::apply_bus_options(config, test::shipped_models(), 1234, wire::Protocol::V2),
+      Catch::StartsWith("--baud/--protocol: xm430-w350 cannot do 1234 bps"));
   app::BusConfig ax = one_port({{"ax-12a", 1, {}}});
   CHECK_THROWS_WITH(
       app::apply_bus_options(ax, test::shipped_models(), std::nullopt, wire::Protocol::V2),

@@ -69,9 +69,10 @@ TEST_CASE("A Modbus servo's ID must be 1 ~ 247, from the shorthand or the item",
   CHECK(refusal(R"({"model": "ph42-020-s300-r", "id": 0, "protocol": "modbus"})") ==
         "bus.json: /ports/0/servos/0/id: servo ph42-020-s300-r:0 speaks Modbus RTU, whose IDs "
         "are 1 ~ 247");
-  CHECK(refusal(R"({"model": "ph42-020-s300-r", "ids": [1, 248], "items": {"protocol_type": 10}})") ==
-        "bus.json: /ports/0/servos/0/ids/1: servo ph42-020-s300-r:248 speaks Modbus RTU, whose "
-        "IDs are 1 ~ 247");
+  CHECK(
+      refusal(R"({"model": "ph42-020-s300-r", "ids": [1, 248], "items": {"protocol_type": 10}})") ==
+      "bus.json: /ports/0/servos/0/ids/1: servo ph42-020-s300-r:248 speaks Modbus RTU, whose "
+      "IDs are 1 ~ 247");
   // The same IDs on 2.0 are fine, and an explicit Protocol Type 2 wins over the shorthand.
   CHECK(refusal(R"({"model": "ph42-020-s300-r", "ids": [0, 248]})") == "accepted");
   CHECK(refusal(R"({"model": "ph42-020-s300-r", "id": 0, "protocol": "modbus",

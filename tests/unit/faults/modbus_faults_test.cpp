@@ -78,8 +78,8 @@ TEST_CASE("modbus_exception: the request is not executed and the servo answers t
   CHECK(refused.front().bytes == wire::encode_modbus_frame(1, 0x86, hex("06")));
   CHECK(f.modbus.table().get("torque_enable") == 0);
   // At the time a reply of its size would have come: the same processing time (50 us on a P).
-  const sim::SimDuration reply_gap = test::line(clean.front().bytes.size()) -
-                                     test::line(refused.front().bytes.size());
+  const sim::SimDuration reply_gap =
+      test::line(clean.front().bytes.size()) - test::line(refused.front().bytes.size());
   CHECK(refused.front().at - sent == clean_after - reply_gap);
   // Other functions pass.
   CHECK(f.ask(kReadModel) == wire::encode_modbus_frame(1, 0x03, hex("04 07 E4 00 00")));

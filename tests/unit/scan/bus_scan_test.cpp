@@ -193,7 +193,8 @@ TEST_CASE("A scan asked for Modbus RTU reads each address's Model Number, then i
   const auto& servo = config["ports"][0]["servos"][0];
   CHECK(servo["items"]["protocol_type"] == 10);
   CHECK(servo["items"]["homing_offset"] == -300);
-  const app::BusConfig parsed = app::parse_config(config.dump(), "clone.json", test::shipped_models());
+  const app::BusConfig parsed =
+      app::parse_config(config.dump(), "clone.json", test::shipped_models());
   const auto spec = test::shipped_models().find("ph42-020-s300-r");
   CHECK(app::configured_protocol(parsed.ports[0].servos[0], *spec) == wire::Protocol::Modbus);
 }
@@ -208,8 +209,8 @@ TEST_CASE("The default scan leaves Modbus RTU out", "[app][clone][modbus]") {
   ph.table().set("protocol_type", wire::traits(wire::Protocol::Modbus).type_value);
   ph.commit_deferred();
   RigScanLink link(rig);
-  CHECK(scan::scan_bus(link, test::shipped_models(), narrow({57'600}), [](const std::string&) {})
-            .empty());
+  CHECK(scan::scan_bus(link, test::shipped_models(), narrow({57'600}), [](const std::string&) {
+        }).empty());
 }
 
 }  // namespace dxlemu

@@ -59,12 +59,12 @@ TEST_CASE("Write and Diagnostics responses come as they are; exceptions carry th
 
 TEST_CASE("Frames that are no response of their function are NotStatus", "[wire][modbus]") {
   for (const Bytes& raw : {
-           wire::encode_modbus_frame(1, 0x03, hex("04 07 E4 00")),     // byte count 4, 3 bytes
-           wire::encode_modbus_frame(1, 0x03, hex("03 07 E4 00")),     // half a register
-           wire::encode_modbus_frame(1, 0x03, {}),                     // no byte count
-           wire::encode_modbus_frame(1, 0x83, hex("02 00")),           // exception of 2 bytes
-           wire::encode_modbus_frame(1, 0x83, {}),                     // exception without code
-           wire::encode_modbus_frame(1, 0x01, hex("01 00")),           // Read Coils: not served
+           wire::encode_modbus_frame(1, 0x03, hex("04 07 E4 00")),  // byte count 4, 3 bytes
+           wire::encode_modbus_frame(1, 0x03, hex("03 07 E4 00")),  // half a register
+           wire::encode_modbus_frame(1, 0x03, {}),                  // no byte count
+           wire::encode_modbus_frame(1, 0x83, hex("02 00")),        // exception of 2 bytes
+           wire::encode_modbus_frame(1, 0x83, {}),                  // exception without code
+           wire::encode_modbus_frame(1, 0x01, hex("01 00")),        // Read Coils: not served
        }) {
     INFO(wire::to_hex(raw));
     const auto result = decode(raw);
