@@ -4,7 +4,7 @@ independent Modbus masters from Debian: pymodbus (python3-pymodbus) and mbpoll (
 `dxlemu run --servo ph54-200-s500-r:1 --protocol modbus` (docs/modbus.md): Model Number 2020 at
 40001; Torque Enable and Goal Position writes move the servo and Present Position follows; a
 write to a read-only register and one into half of Goal Position get exception 02; the gripper
-closes; switching Protocol Type back to 2 over Modbus makes the same servo answer DynamixelSDK's
+closes with a gripping current; switching Protocol Type back to 2 over Modbus makes the same servo answer DynamixelSDK's
 Protocol 2.0 (tests/e2e/sdk_client.py) with the table the Modbus writes left.
 
 Every master must use 8N1 (mbpoll's default parity is even: `-P none`); a master with even parity
@@ -37,6 +37,7 @@ BAUD = 57600  # the P series' and the gripper's factory Baud Rate (index 1)
 MODEL_NUMBER = 0          # Model Number (0)
 PROTOCOL_TYPE = 13 // 2   # 40007: Secondary ID (12, N/A) low byte, Protocol Type (13) high
 TORQUE_ENABLE = 512 // 2  # 40257: Torque Enable (512) low byte, LED Red (513) high
+GOAL_CURRENT = 550 // 2  # 40276
 GOAL_POSITION = 564 // 2  # 40283-40284, low word first
 PRESENT_POSITION = 580 // 2
 ILLEGAL_DATA_ADDRESS = 2
@@ -84,7 +85,7 @@ class ModbusSession(unittest.TestCase):
 
     def test_pymodbus_reads_writes_moves_and_sees_exceptions_then_sdk_takes_over(self):
         control = self.start("ph54-200-s500-r:1")
-        self.assertEqual(control.call("list")["ports"]["dxl0"]["servos"][0]["protocol"], "modbus")
+        self.assertEqual(control.call("list")["ports"][0]["servos"][0]["protocol"], "modbus")
         client = self.master()
         model = client.read_holding_registers(MODEL_NUMBER, 1, slave=1)
         self.assertFalse(model.isError(), model)
@@ -142,6 +143,9 @@ class ModbusSession(unittest.TestCase):
         self.start("rh-p12-rna:1", timing="fast")
         client = self.master()
         self.assertEqual(client.read_holding_registers(MODEL_NUMBER, 1, slave=1).registers, [35074])
+        # Current-based position control (Operating Mode 5): the gripper grips with Goal Current,
+        # 0 at power-on, so a gripping current comes first.
+        self.assertFalse(client.write_register(GOAL_CURRENT, 400, slave=1).isError())
         self.assertFalse(client.write_register(TORQUE_ENABLE, 1, slave=1).isError())
         self.assertFalse(client.write_registers(GOAL_POSITION, words(700), slave=1).isError())
         deadline = time.monotonic() + 10 * timeout_scale()
