@@ -388,6 +388,9 @@ DecodeResult<InstructionPacket> decode_instruction(const Frame& frame) {
 }
 
 DecodeResult<StatusPacket> decode_status(const Frame& frame) {
+  if (frame.protocol == Protocol::Modbus) {
+    return decode_modbus_status(frame);
+  }
   if (has_v1_layout(frame.protocol)) {
     return StatusPacket{frame.protocol, frame.id, frame.instruction, frame.params};
   }

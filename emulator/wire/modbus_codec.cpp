@@ -221,6 +221,12 @@ DecodeResult<InstructionPacket> decode_modbus_request(const Frame& frame) {
   return InstructionPacket{frame.protocol, frame.id, std::get<Instruction>(std::move(decoded))};
 }
 
+StatusPacket decode_modbus_status(const Frame& frame) {
+  const bool exception = (frame.instruction & kExceptionBit) != 0 && !frame.params.empty();
+  return StatusPacket{frame.protocol, frame.id, exception ? frame.params.front() : std::uint8_t{0},
+                      exception ? std::vector<std::uint8_t>{} : frame.params};
+}
+
 std::vector<std::uint8_t> encode_modbus_frame(std::uint8_t address, std::uint8_t function,
                                               std::span<const std::uint8_t> data) {
   std::vector<std::uint8_t> frame{address, function};

@@ -13,6 +13,7 @@
 #include "wire/frame.hpp"
 #include "wire/instruction.hpp"
 #include "wire/instruction_decoder.hpp"
+#include "wire/status.hpp"
 
 namespace dxlemu::wire {
 
@@ -21,6 +22,11 @@ namespace dxlemu::wire {
 /// quantity or byte count out of its range is BadValue, a data field of the wrong size
 /// BadLength, registers beyond 16-bit byte addresses BadAddress.
 DecodeResult<InstructionPacket> decode_modbus_request(const Frame& frame);
+
+/// A Modbus response as a status: the exception code as its error (0 for a normal response)
+/// and the response's data after the function code as its parameters (for traces; a master
+/// that needs the registers reads them from the data).
+StatusPacket decode_modbus_status(const Frame& frame);
 
 /// Builds a Modbus response frame from `address`, answering function `function`: an exception
 /// response when `exception` is not 0, else the normal response, which reads `request` (the

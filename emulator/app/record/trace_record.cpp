@@ -87,6 +87,7 @@ std::string sent_record(const std::string& port, std::span<const std::uint8_t> b
   wire::Framer framer(protocol);
   std::vector<wire::FramerEvent> events;
   framer.feed(bytes, at, events);
+  framer.end_of_write(events);  // a frame that ends at a silence: the delivery is all of it
   std::string text;
   for (const auto& event : events) {
     if (const auto* frame = std::get_if<wire::Frame>(&event)) {
