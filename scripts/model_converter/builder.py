@@ -13,6 +13,7 @@ from .firmware import firmware_needs, older_indirect
 from .item_builder import build_items
 from .items import Draft
 from .markdown import clean_cell, parse_bps, tables_in
+from .modbus_map import MODBUS, read_modbus_map
 from .decisions.catalogue import classify
 from .page import Page, read_page
 from .reference import Reference
@@ -33,8 +34,8 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
     d.notes.insert(0, fw_note)
     if d.page.modbus_only:
         d.notes.append(f"items: the page's table also lists {', '.join(d.page.modbus_only)} with Address "
-                       "'N/A' and a Modbus address only; dxlemu speaks DYNAMIXEL Protocol 2.0 only (no Modbus-RTU), "
-                       "so they are no items, and the Modbus Address column is not read")
+                       "'N/A' and a Modbus address only: registers of the Modbus map, no control-table items, and "
+                       "this model does not speak Modbus RTU in dxlemu (see the protocols note), so they are left out")
     rates, default_baud = baud_rates(d)
     figures, timing_note = d.lookup(TIMING)
     d.notes += [timing_note, BOOT_NOTE, RETURN_DELAY_NOTE]
@@ -58,6 +59,8 @@ def build_model(ref: Reference, page: Page, donors: dict[str, Page]) -> dict:
     variants = firmware_variants(d, fw)
     if variants:
         model["firmware_variants"] = variants
+    if MODBUS in model["protocols"]:
+        read_modbus_map(d, fw, [v["firmware_version"] for v in variants or []])
     if dual:
         model["axes"] = 2
         model["shared_items"] = list(dual.shared_items)
@@ -176,7 +179,7 @@ def firmware_variants(d: Draft, fw: int) -> list[dict] | None:
              "notes": [note]}]
 
 
-def protocols(d: Draft) -> list[int]:
+def protocols(d: Draft) -> list:
     """The protocols the model speaks (PROTOCOLS)."""
     listed, note = d.lookup(PROTOCOLS)
     if note:

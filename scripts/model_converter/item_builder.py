@@ -58,8 +58,8 @@ def make_items(d: Draft):
         if row.by_protocol:
             mark = ", with footnote mark 1)" if row.by_protocol.endswith("1)") else ""
             item.notes.append(f"initial: the page prints '{row.by_protocol}', one value per protocol (DYNAMIXEL "
-                              f"Protocol 2.0, then Modbus{mark}); the Protocol 2.0 value is used: dxlemu "
-                              f"speaks DYNAMIXEL Protocol 2.0 only")
+                              f"Protocol 2.0, then Modbus{mark}); the Protocol 2.0 value is used: this model "
+                              f"does not speak Modbus RTU in dxlemu (see the protocols note)")
         if row.access == "R/RW":
             item.notes.append("access: the page prints 'R/RW' (read-only or writable depending on "
                               "External Port Mode); RW is used and the mode check is left to the emulator")

@@ -7,8 +7,11 @@ value is accepted. Every choice leaves a "range: ..." note on the item.
 
 from __future__ import annotations
 
+import re
+
 from .decisions.item_rules import (LIMIT_MAX_OVERRIDES, NAME_ALIASES, RANGE_DONORS, WIDEN_TO_FACTORY,
                                    WIDEN_TO_FACTORY_BY_FAMILY)
+from .decisions.model_fields import PROTOCOLS
 from .decisions.range_choices import RANGE_CHOICES
 from .items import Draft, Item
 from .markdown import clean_cell, norm_space, parse_int, snake_key, tables_in
@@ -94,6 +97,8 @@ def apply_spec(d: Draft, item: Item, spec: RangeSpec, source: str):
                               f"wider velocity-based one; in time-based mode the emulator must also refuse "
                               f"values above {hi2:,} and cap acceleration time at 50% of Profile Velocity")
             item.max = max(spec.max, hi2)
+        elif re.search(r"\(modbus\)", spec.raw, re.I):
+            item.notes.append(modbus_range_note(d, source, spec))
         else:
             item.notes.append(f"range: {source} prints '{spec.raw}'; the first range (DYNAMIXEL Protocol "
                               f"2.0) is used, the other applies to a protocol dxlemu does not emulate")
@@ -102,6 +107,18 @@ def apply_spec(d: Draft, item: Item, spec: RangeSpec, source: str):
         if ref:
             k, target = ref_key(d, ref, item)
             setattr(item, "limit_min" if side == "lo" else "limit_max", k)
+
+
+def modbus_range_note(d: Draft, source: str, spec: RangeSpec) -> str:
+    """The note on a Range cell with a second range for Modbus (ID: '1 ~ 247 (Modbus)'): the item
+    keeps the Protocol 2.0 range; over Modbus the protocol's own ID range applies (its row in the
+    protocol table), where the model speaks Modbus at all."""
+    lo, hi = spec.extra[0]
+    head = f"range: {source} prints '{spec.raw}'; the first range (DYNAMIXEL Protocol 2.0) is the item's"
+    if "modbus" in d.lookup(PROTOCOLS)[0]:
+        return (f"{head}; the Modbus range is enforced by the protocol (ID {lo} ~ {hi} over Modbus; another value "
+                f"written over Modbus is refused with exception 03)")
+    return f"{head}; the other is for Modbus RTU, which this model does not speak in dxlemu (see the protocols note)"
 
 
 def printed_ranges(d: Draft):

@@ -27,6 +27,7 @@ class Item:
     unit: str | None = None
     notes: list = field(default_factory=list)
     range_from: str = ""       # "table", "choice", ... (for the summary)
+    absent_in: list = field(default_factory=list)   # protocols whose map leaves the item out (modbus_map.py)
 
     def to_json(self) -> dict:
         """The item as docs/model-format.md writes it (fields in that order, defaults omitted)."""
@@ -50,6 +51,8 @@ class Item:
             d["limit_max"] = self.limit_max
         if self.unit:
             d["unit"] = self.unit
+        if self.absent_in:
+            d["absent_in"] = self.absent_in
         if self.notes:
             d["note"] = "; ".join(self.notes)
         return d

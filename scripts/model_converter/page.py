@@ -29,6 +29,7 @@ class Row:
     expanded: bool = False
     borrowed: str = ""        # the page the row was taken from, when this page's revision lacks it
     by_protocol: str = ""     # the Initial cell as printed, where it gives one value per protocol
+    modbus: str = ""          # the Modbus Address cell as printed ('40004 (Hi Byte)', 'N/A'); "" without one
 
 
 @dataclass
@@ -141,6 +142,11 @@ def protocol2_line(initial_raw: str, range_raw: str) -> tuple[str, str] | None:
     return initial, ", ".join(str(v) for v in values)
 
 
+def modbus_cell(text: str) -> str:
+    """A cleaned Modbus Address cell without the emphasis some pages wrap it in ('*40001*')."""
+    return re.sub(r"\s+", " ", text.replace("*", "")).strip()
+
+
 def read_rows(area: str, table: Table) -> list[dict]:
     """The cells of each row by meaning, cleaned (ellipsis rows included, see expand_ellipses)."""
     cols = map_columns(table.header)
@@ -168,7 +174,7 @@ def read_rows(area: str, table: Table) -> list[dict]:
             "access": cell("access"), "initial": initial, "range": rng,
             "by_protocol": clean_cell(cells[cols["initial"]]) if by_protocol else "",
             "unit": clean_cell(re.sub(r"<br\s*/?>", " / ", cell("unit", raw_cell=True))) if "unit" in cols else "",
-            "min": cell("min"), "max": cell("max"),
+            "min": cell("min"), "max": cell("max"), "modbus": modbus_cell(cell("modbus")),
             "has_minmax": "min" in cols, "raw": raw,
         })
     return out
@@ -198,7 +204,8 @@ def expand_ellipses(raw: list[dict]) -> list[Row]:
         if r["has_minmax"]:
             mm = (r["min"], r["max"])
         return Row(parse_int(r["address"]), parse_int(r["size"]), r["name"], r["access"], r["initial"],
-                   r["range"], r["unit"], mm, r["area"], expanded, by_protocol=r.get("by_protocol", ""))
+                   r["range"], r["unit"], mm, r["area"], expanded, by_protocol=r.get("by_protocol", ""),
+                   modbus=r.get("modbus", ""))
 
     i = 0
     while i < len(raw):
@@ -224,10 +231,13 @@ def expand_ellipses(raw: list[dict]) -> list[Row]:
             raise ValueError(f"ellipsis before {nxt.name}: address series does not reach {nxt.address}")
         if init_step is not None and init_c is not None and init_b + init_step * (count + 1) != init_c:
             raise ValueError(f"ellipsis before {nxt.name}: initial series does not reach {init_c}")
+        # An elided row's Modbus address is known only where the series has none ('N/A' on both sides);
+        # a numbered one is left unknown (""), which a page whose map is read refuses (modbus_map.py).
+        modbus = prev.modbus if prev.modbus.upper() == nxt.modbus.upper() == "N/A" else ""
         for k in range(1, count + 1):
             initial = str(init_b + init_step * k) if init_step is not None else prev.initial
             rows.append(Row(prev.address + step * k, prev.size, f"{base} {b[1] + k}", prev.access, initial,
-                            prev.range, prev.unit, prev.minmax, prev.area, expanded=True))
+                            prev.range, prev.unit, prev.minmax, prev.area, expanded=True, modbus=modbus))
         i += 1
     return rows
 
@@ -280,8 +290,8 @@ def read_page(ref: Reference, name: str, family: str, group: str) -> Page:
     for area, table in tabs:
         columns |= set(map_columns(table.header))
         raw += read_rows(area, table)
-    # Rows with no DYNAMIXEL address (Address 'N/A') exist only in the Modbus map: dxlemu speaks
-    # DYNAMIXEL Protocol 2.0 only, so they are no items (the builder notes them).
+    # Rows with no DYNAMIXEL address (Address 'N/A') exist only in the Modbus map (DYNAMIXEL-Y's
+    # instruction registers): they are no control-table items (the builder notes them).
     modbus_only = [r["name"] for r in raw if r["address"].upper() == "N/A"]
     raw = [r for r in raw if r["address"].upper() != "N/A"]
     rows = expand_ellipses(raw)

@@ -18,7 +18,9 @@ TOP_REQUIRED = {"name": str, "title": str, "model_number": int, "firmware_versio
 MOTION_KEYS = {"degrees_per_pulse", "velocity_unit_rpm", "current_unit_ma", "no_load_speed_rpm", "stall_torque_nm",
                "stall_current_a", "nominal_voltage_v", "acceleration_unit_rpm2", "current_zero"}
 ITEM_KEYS = {"key", "name", "address", "size", "access", "area", "initial", "initial_from", "signed", "min",
-             "max", "values", "limit_min", "limit_max", "unit", "note"}
+             "max", "values", "limit_min", "limit_max", "unit", "absent_in", "note"}
+# The protocols a DYNAMIXEL model file may list (FEETECH files come from the other converter).
+PROTOCOLS = {1, 2, "modbus"}
 
 
 def validate(model: dict) -> None:
@@ -34,7 +36,8 @@ def validate(model: dict) -> None:
     need(model["family"] in FAMILIES, "unknown family")
     need(0 <= model["model_number"] <= 65535, "model_number out of 0 ~ 65535")
     need(0 <= model["firmware_version"] <= 255, "firmware_version out of 0 ~ 255")
-    need(model["protocols"] and set(model["protocols"]) <= {1, 2}, "protocols")
+    need(model["protocols"] and set(model["protocols"]) <= PROTOCOLS, "protocols")
+    need(len(set(model["protocols"])) == len(model["protocols"]), "protocols: one listed twice")
     seen = {model["firmware_version"]}
     for v in model.get("firmware_variants", []):
         need(set(v) <= {"firmware_version", "indirect", "notes"}, f"firmware_variants: unknown fields {set(v)}")
@@ -71,6 +74,11 @@ def validate(model: dict) -> None:
             need(a not in occupied, f"{k} overlaps {occupied.get(a)}")
             occupied[a] = k
         need(("initial" in it) != ("initial_from" in it), f"{k}: exactly one of initial / initial_from")
+        if "absent_in" in it:
+            absent = it["absent_in"]
+            need(isinstance(absent, list) and absent and len(set(absent)) == len(absent) and
+                 set(absent) <= set(model["protocols"]) and set(absent) != set(model["protocols"]),
+                 f"{k}: absent_in must list, once each, some but not all of the model's protocols")
         lo, hi = full_width(it["size"], it.get("signed", False))
         lo, hi = it.get("min", lo), it.get("max", hi)
         need(("min" in it) == ("max" in it), f"{k}: min without max")

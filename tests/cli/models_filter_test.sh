@@ -36,6 +36,7 @@ expect_rows '$4 == "x"' --family x
 expect_rows '$4 == "ax"' --family ax
 expect_rows '$3 ~ /(^|,)1\.0/' --protocol 1
 expect_rows '$3 ~ /(^|,)2\.0/' --protocol 2
+expect_rows '$3 ~ /(^|,)modbus($|,)/' --protocol modbus
 # Lowercase names hold the titles' letters: a fragment in capitals finds them.
 expect_rows '$1 ~ /430/' --name 430
 expect_rows '$1 ~ /xm/' --name XM

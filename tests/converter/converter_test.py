@@ -13,8 +13,10 @@ sys.path.insert(0, str(ROOT / "scripts"))
 
 import json  # noqa: E402
 
-from model_converter import builder, firmware, item_builder, item_ranges  # noqa: E402
-from model_converter.decisions import catalogue, item_rules, model_fields, motor_specs  # noqa: E402
+from unittest import mock  # noqa: E402
+
+from model_converter import builder, firmware, item_builder, item_ranges, modbus_map  # noqa: E402
+from model_converter.decisions import catalogue, item_rules, model_fields, modbus, motor_specs  # noqa: E402
 from model_converter.items import Draft  # noqa: E402
 from model_converter.markdown import (camel_to_include, clean_cell, clean_unit, parse_bps, parse_int,  # noqa: E402
                                       select_liquid_branch, snake_key, tables_in, unit_number)
@@ -392,6 +394,118 @@ class ItemRangeOrderTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "which is not an item"):
             self.draft("| 36 | 2 | PWM Limit | RW | 885 | 0 ~ 885 | - |\n",
                        "| 100 | 2 | Goal PWM | RW | - | -PWM Limit(38) ~ PWM Limit(36) | - |\n")
+
+
+MODBUS_HEADER = ("| Address | Size(Byte) | _Modbus_<br>Address | Data Name | Access | Initial<br />Value | Range | Unit |\n"
+                 "|---|---|---|---|---|---|---|---|\n")
+
+
+class ModbusMapTest(unittest.TestCase):
+    """A DYNAMIXEL-P page's Modbus Address column: checked against 40001 + floor(address / 2), its
+    'N/A' rows (elided ones too) absent in Modbus, a misprint refused unless it is a named erratum."""
+
+    EEPROM = ("| 0 | 2 | _40001_ | Model Number | R | 2,020 | - | - |\n"
+              "| 7 | 1 | _40004 (Hi Byte)_ | ID | RW | 1 | 0 ~ 252 (**DYNAMIXEL Protocol 2.0**) <br /> 1 ~ 247 (**Modbus**) | - |\n"
+              "| 8 | 1 | _40005 (Lo Byte)_ | Baud Rate | RW | 1 | 0 ~ 9 | - |\n"
+              "| 9 | 1 | N/A | Return Delay Time | RW | 250 | 0 ~ 254 | - |\n"
+              "| 168 | 2 | N/A | Indirect Address 1 | RW | 634 | 512 ~ 1,023 | - |\n"
+              "| 170 | 2 | N/A | Indirect Address 2 | RW | 635 | 512 ~ 1,023 | - |\n"
+              "| ... | ... | ... | ... | ... | ... | ... | ... |\n"
+              "| 176 | 2 | N/A | Indirect Address 5 | RW | 638 | 512 ~ 1,023 | - |\n")
+    RAM = ("| 512 | 1 | *40257 (Lo Byte)* | Torque Enable | RW | 0 | 0 ~ 1 | - |\n"
+           "| 564 | 4 | *40283* | Goal Position | RW | - | -1,000 ~ 1,000 | - |\n")
+
+    def draft(self, eeprom=EEPROM, ram=RAM):
+        """A P-family page with a Modbus column, its items made and their ranges filled in."""
+        text = (f"## Control Table of EEPROM Area\n\n{MODBUS_HEADER}{eeprom}\n"
+                f"## Control Table of RAM Area\n\n{MODBUS_HEADER}{ram}\n")
+        tmp = TempReference({"test-1": text})
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "p", "dxl_p"), {})
+        item_builder.make_items(d)
+        item_ranges.printed_ranges(d)
+        return d
+
+    def test_the_rule_gives_the_register_and_for_one_byte_items_the_byte(self):
+        self.assertEqual(modbus_map.expected_cell(0, 2), "40001")
+        self.assertEqual(modbus_map.expected_cell(7, 1), "40004 (Hi Byte)")
+        self.assertEqual(modbus_map.expected_cell(512, 1), "40257 (Lo Byte)")
+        self.assertEqual(modbus_map.expected_cell(564, 4), "40283")
+        with self.assertRaisesRegex(ValueError, "straddles two registers"):
+            modbus_map.expected_cell(9, 2)
+
+    def test_rows_printed_na_and_their_elided_series_are_absent_in_modbus(self):
+        d = self.draft()
+        modbus_map.read_modbus_map(d, 45, [])
+        absent = [i.key for i in d.items if i.absent_in]
+        self.assertEqual(absent, ["return_delay_time"] + [f"indirect_address_{n}" for n in range(1, 6)])
+        self.assertEqual(d.by_key["return_delay_time"].to_json()["absent_in"], ["modbus"])
+        self.assertNotIn("absent_in", d.by_key["goal_position"].to_json())
+        self.assertIn("firmware_version 45", d.notes[0])
+        self.assertIn("Return Delay Time(9), Indirect Address 1 ~ 5(168 ~ 176)", d.notes[1])
+
+    def test_the_id_keeps_the_protocol_2_range_and_notes_the_modbus_one(self):
+        note = self.draft().by_key["id"].notes[0]
+        self.assertIn("the Modbus range is enforced by the protocol (ID 1 ~ 247 over Modbus", note)
+        self.assertEqual((self.draft().by_key["id"].min, self.draft().by_key["id"].max), (0, 252))
+
+    def test_a_misprinted_address_refuses_the_page_naming_the_row(self):
+        d = self.draft(self.EEPROM.replace("_40005 (Lo Byte)_", "_40006 (Lo Byte)_"))
+        with self.assertRaisesRegex(ValueError, r"row Baud Rate\(8\): Modbus Address '40006 \(Lo Byte\)' is not "
+                                                r"'40005 \(Lo Byte\)'"):
+            modbus_map.read_modbus_map(d, 45, [])
+        d = self.draft(self.EEPROM.replace("_40004 (Hi Byte)_", "_40004 (Lo Byte)_"))
+        with self.assertRaisesRegex(ValueError, r"row ID\(7\)"):
+            modbus_map.read_modbus_map(d, 45, [])
+        d = self.draft(ram=self.RAM.replace("*40283*", "*40283 (Lo Byte)*"))
+        with self.assertRaisesRegex(ValueError, r"row Goal Position\(564\)"):
+            modbus_map.read_modbus_map(d, 45, [])
+
+    def test_a_named_erratum_is_noted_and_one_the_page_does_not_need_is_refused(self):
+        misprint = {"test-1": {8: ("40006 (Lo Byte)", "why")}}
+        with mock.patch.dict(modbus_map.MODBUS_ERRATA, misprint):
+            d = self.draft(self.EEPROM.replace("_40005 (Lo Byte)_", "_40006 (Lo Byte)_"))
+            modbus_map.read_modbus_map(d, 45, [])
+            self.assertIn("modbus: the page prints '40006 (Lo Byte)'; the map places the item at '40005 (Lo Byte)': "
+                          "why", d.by_key["baud_rate"].notes)
+            with self.assertRaisesRegex(ValueError, r"names rows at \[8\] as misprinted"):
+                modbus_map.read_modbus_map(self.draft(), 45, [])
+
+    def test_an_elided_series_between_mapped_rows_has_no_address_and_is_refused(self):
+        eeprom = ("| 56 | 1 | _40029 (Lo Byte)_ | External Port Mode 1 | RW | 3 | 0 ~ 3 | - |\n"
+                  "| 57 | 1 | _40029 (Hi Byte)_ | External Port Mode 2 | RW | 3 | 0 ~ 3 | - |\n"
+                  "| ... | ... | ... | ... | ... | ... | ... | ... |\n"
+                  "| 59 | 1 | _40030 (Hi Byte)_ | External Port Mode 4 | RW | 3 | 0 ~ 3 | - |\n")
+        d = self.draft(self.EEPROM + eeprom)
+        with self.assertRaisesRegex(ValueError, r"row External Port Mode 3\(58\) has no Modbus address"):
+            modbus_map.read_modbus_map(d, 45, [])
+
+    def test_a_firmware_below_the_first_modbus_one_is_refused(self):
+        with self.assertRaisesRegex(ValueError, "firmware 10 is below V11"):
+            modbus_map.read_modbus_map(self.draft(), 10, [])
+        with self.assertRaisesRegex(ValueError, "firmware 9 is below V11"):
+            modbus_map.read_modbus_map(self.draft(), 45, [9])
+
+    def test_a_page_without_a_modbus_column_is_refused(self):
+        tmp = TempReference({"test-1": page_text("| 7 | 1 | ID | RW | 1 | 0 ~ 252 | - |\n",
+                                                 "| 512 | 1 | Torque Enable | RW | 0 | 0 ~ 1 | - |\n")})
+        self.addCleanup(tmp.close)
+        d = Draft(tmp.ref, read_page(tmp.ref, "test-1", "p", "dxl_p"), {})
+        item_builder.make_items(d)
+        with self.assertRaisesRegex(ValueError, "has no Modbus Address column"):
+            modbus_map.read_modbus_map(d, 45, [])
+
+    def test_the_models_that_list_modbus_are_the_p_pages_and_rh_p12_rna_each_with_a_firmware(self):
+        speaking = set()
+        for name in catalogue.CONVERTED_PAGES:
+            family, group = catalogue.classify(name)
+            keys = (name, *catalogue.lineage(family, group))
+            listed = next(model_fields.PROTOCOLS[k] for k in keys if k in model_fields.PROTOCOLS)[0]
+            if "modbus" in listed:
+                speaking.add(name)
+                self.assertTrue(any(k in modbus.MODBUS_FIRMWARE for k in keys), name)
+        self.assertEqual(speaking, {"ph54-200-s500-r", "ph54-100-s500-r", "ph42-020-s300-r", "pm54-060-s250-r",
+                                    "pm54-040-s250-r", "pm42-010-s260-r", "rh-p12-rna"})
 
 
 class DecisionTablesTest(unittest.TestCase):

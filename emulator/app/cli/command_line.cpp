@@ -50,7 +50,8 @@ CLI::App* add_models(CLI::App& app, CommandLine& line) {
           "FAMILY"));
   models
       ->add_option("--protocol", filters.protocol,
-                   "Only the models that can speak this protocol: 1, 2 (DYNAMIXEL) or feetech")
+                   "Only the models that can speak this protocol: 1, 2 (DYNAMIXEL), modbus "
+                   "(Modbus RTU) or feetech")
       ->check(CLI::IsMember(wire::protocol_spellings()));
   models->add_option("--name", filters.name,
                      "Only the models whose name or title contains TEXT, ignoring case");

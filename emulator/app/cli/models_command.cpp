@@ -9,6 +9,11 @@
 namespace dxlemu::app {
 namespace {
 
+// Column widths of the listing; each holds its longest entry and a space ("2.0,modbus").
+constexpr int kNameWidth = 18;
+constexpr int kNumberWidth = 8;
+constexpr int kProtocolsWidth = 12;
+
 std::string protocols_text(const model::ModelSpec& spec) {
   std::string out;
   for (const auto p : spec.protocols) {
@@ -46,17 +51,19 @@ void list_models(const std::vector<std::string>& model_dirs, const ModelsArgumen
               << library.names().size() << " in the library)\n";
     return;
   }
-  std::cout << std::left << std::setw(18) << "NAME" << std::setw(8) << "NUMBER" << std::setw(10)
-            << "PROTOCOLS"
+  const auto row = [](const model::ModelSpec& spec) {
+    std::cout << std::setw(kNameWidth) << spec.name << std::setw(kNumberWidth) << spec.model_number
+              << std::setw(kProtocolsWidth) << protocols_text(spec)
+              << model::family_name(spec.family) << "\n";
+  };
+  std::cout << std::left << std::setw(kNameWidth) << "NAME" << std::setw(kNumberWidth) << "NUMBER"
+            << std::setw(kProtocolsWidth) << "PROTOCOLS"
             << "FAMILY\n";
   for (const auto& spec : listed) {
-    std::cout << std::setw(18) << spec->name << std::setw(8) << spec->model_number << std::setw(10)
-              << protocols_text(*spec) << model::family_name(spec->family) << "\n";
+    row(*spec);
     // Its other firmware, by the name --servo and a config take (NAME@FIRMWARE).
     for (const auto& variant : library.variants_of(spec->name)) {
-      std::cout << std::setw(18) << variant->name << std::setw(8) << variant->model_number
-                << std::setw(10) << protocols_text(*variant) << model::family_name(variant->family)
-                << "\n";
+      row(*variant);
     }
   }
 }

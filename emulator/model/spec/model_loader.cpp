@@ -5,6 +5,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <utility>
+#include <vector>
 
 #include "model/spec/firmware_variant.hpp"
 #include "model/spec/json_node.hpp"
@@ -39,10 +40,10 @@ constexpr std::array<std::string_view, 23> kModelFields = {"$schema",
                                                            "notes",
                                                            "refusal_bits",
                                                            "items"};
-constexpr std::array<std::string_view, 17> kItemFields = {
-    "key",     "name",         "address",   "size",     "access", "area",
-    "initial", "initial_from", "signed",    "sign_bit", "min",    "max",
-    "values",  "limit_min",    "limit_max", "unit",     "note"};
+constexpr std::array<std::string_view, 18> kItemFields = {
+    "key",     "name",         "address",   "size",     "access",    "area",
+    "initial", "initial_from", "signed",    "sign_bit", "min",       "max",
+    "values",  "limit_min",    "limit_max", "unit",     "absent_in", "note"};
 constexpr std::array<std::string_view, 2> kBaudFields = {"index", "bps"};
 constexpr std::array<std::string_view, 5> kTimingFields = {"ping_us", "read_us", "write_us",
                                                            "write_per_byte_us", "boot_ms"};
@@ -154,7 +155,8 @@ struct PendingItem {
   bool has_initial = false;
 };
 
-PendingItem read_item(const JsonNode& n) {
+// `protocols`: the model's, which `absent_in` may name (some of them).
+PendingItem read_item(const JsonNode& n, const std::vector<wire::Protocol>& protocols) {
   n.expect_object(kItemFields);
   PendingItem p;
   p.pointer = n.pointer();
@@ -226,16 +228,20 @@ PendingItem read_item(const JsonNode& n) {
   if (n.has("unit")) {
     s.unit = n.child("unit").string();
   }
+  if (n.has("absent_in")) {
+    s.absent_in = read_absent_in(n.child("absent_in"), protocols);
+  }
   if (n.has("note")) {
     n.child("note").string();
   }
   return p;
 }
 
-std::vector<ItemSpec> read_items(const JsonNode& items_node) {
+std::vector<ItemSpec> read_items(const JsonNode& items_node,
+                                 const std::vector<wire::Protocol>& protocols) {
   std::vector<PendingItem> pending;
   for (std::size_t i = 0, n = items_node.array_size(); i < n; ++i) {
-    pending.push_back(read_item(items_node.at(i)));
+    pending.push_back(read_item(items_node.at(i), protocols));
   }
   if (pending.empty()) {
     items_node.fail("must list at least one item");
@@ -424,7 +430,7 @@ ModelSpec model_from_json(const json& document, const std::string& origin) {
   if (root.has("notes")) {
     spec.notes = root.child("notes").strings();
   }
-  spec.items = read_items(root.at("items"));
+  spec.items = read_items(root.at("items"), spec.protocols);
   spec.index_items();
   // Every servo needs these to be on a bus at all: its address, its line speed and its reply
   // timing (model::Servo reads them when it is built). Every DYNAMIXEL table has Return Delay

@@ -23,6 +23,34 @@ wire::Protocol read_protocol(const JsonNode& n) {
   return *p;
 }
 
+// The protocols of an array: each known, none twice, at least one.
+std::vector<wire::Protocol> read_protocol_list(const JsonNode& list) {
+  std::vector<wire::Protocol> out;
+  for (std::size_t i = 0, n = list.array_size(); i < n; ++i) {
+    const wire::Protocol p = read_protocol(list.at(i));
+    if (std::find(out.begin(), out.end(), p) != out.end()) {
+      list.at(i).fail("lists a protocol twice");
+    }
+    out.push_back(p);
+  }
+  if (out.empty()) {
+    list.fail("must list at least one protocol");
+  }
+  return out;
+}
+
+// `1, 2, "modbus"`: protocols as JSON writes them, for messages.
+std::string protocols_json_text(const std::vector<wire::Protocol>& protocols) {
+  std::string out;
+  for (const wire::Protocol p : protocols) {
+    if (!out.empty()) {
+      out += ", ";
+    }
+    out += wire::protocol_json_text(p);
+  }
+  return out;
+}
+
 }  // namespace
 
 Family read_family(const JsonNode& family) {
@@ -35,17 +63,7 @@ Family read_family(const JsonNode& family) {
 }
 
 std::vector<wire::Protocol> read_protocols(const JsonNode& protocols, Family family) {
-  std::vector<wire::Protocol> out;
-  for (std::size_t i = 0, n = protocols.array_size(); i < n; ++i) {
-    const wire::Protocol p = read_protocol(protocols.at(i));
-    if (std::find(out.begin(), out.end(), p) != out.end()) {
-      protocols.at(i).fail("lists a protocol twice");
-    }
-    out.push_back(p);
-  }
-  if (out.empty()) {
-    protocols.fail("must list at least one protocol");
-  }
+  std::vector<wire::Protocol> out = read_protocol_list(protocols);
   // A FEETECH family speaks FEETECH's protocol only, a ROBOTIS family DYNAMIXEL's only: the
   // family's rules (status bits, response levels) are one maker's.
   const Maker maker = traits_of(family).maker;
@@ -55,6 +73,25 @@ std::vector<wire::Protocol> read_protocols(const JsonNode& protocols, Family fam
                            std::string(family_name(family)) + "\" cannot speak " +
                            std::string(wire::protocol_title(out[i])));
     }
+  }
+  return out;
+}
+
+std::vector<wire::Protocol> read_absent_in(const JsonNode& absent_in,
+                                           const std::vector<wire::Protocol>& model_protocols) {
+  std::vector<wire::Protocol> out = read_protocol_list(absent_in);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (std::find(model_protocols.begin(), model_protocols.end(), out[i]) ==
+        model_protocols.end()) {
+      absent_in.at(i).fail("names " + wire::protocol_json_text(out[i]) +
+                           ", which the model does not speak (its protocols: " +
+                           protocols_json_text(model_protocols) + ")");
+    }
+  }
+  // Every listed one is the model's and none is listed twice: equal sizes mean all of them.
+  if (out.size() == model_protocols.size()) {
+    absent_in.fail(
+        "names every protocol the model speaks: an item none of them reaches is no item");
   }
   return out;
 }

@@ -20,4 +20,10 @@ Family read_family(const JsonNode& family);
 /// new protocol is one more case here (and in the schema).
 std::vector<wire::Protocol> read_protocols(const JsonNode& protocols, Family family);
 
+/// An item's `absent_in` member: protocols spelled as in `protocols` (numbers or strings), at
+/// least one, none twice, each one the model lists in `model_protocols`, and not all of them (an
+/// item no protocol reaches is no item). Refused with the member's JSON pointer and the reason.
+std::vector<wire::Protocol> read_absent_in(const JsonNode& absent_in,
+                                           const std::vector<wire::Protocol>& model_protocols);
+
 }  // namespace dxlemu::model

@@ -9,6 +9,7 @@ into the model with it, and names its evidence.
   bounds, ranges widened to the factory value, MX(2.0) range donors).
 - range_choices.py: ranges for items a page leaves open, each with its quoted evidence.
 - motor_specs.py: motor figures for pages without a Specifications table.
+- modbus.py: the firmware Modbus RTU needs, and the rows whose printed Modbus address is a misprint.
 """
 
 # The e-Manual's include blocks, for the ones the offline reference did not copy.

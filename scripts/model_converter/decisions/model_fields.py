@@ -131,6 +131,13 @@ SHARED_MODEL_NUMBERS = {
 }
 
 # Protocols per variant, and the note where the list needs one.
+# DYNAMIXEL-P and RH-P12-RN(A) speak Modbus RTU through Protocol Type(13) = 10
+# (modbus/modbus-rtu.md "Where DYNAMIXEL speaks it"); their map is read by modbus_map.py.
+_MODBUS_NOTE = ("protocols: DYNAMIXEL Protocol 2.0 by default, Modbus RTU through Protocol Type(13) = 10 (from the "
+                "firmware the modbus note names); the Modbus register map is the page's Modbus "
+                "Address column, checked row by row against holding register 40001 + floor(address / 2) (an even "
+                "address the register's low byte, an odd one its high byte); the items it prints 'N/A' are "
+                "absent_in modbus (docs/modbus.md)")
 _PROTOCOLS_1 = ([1], None)
 _PROTOCOLS_2_AND_1 = ([2, 1], "protocols: 2.0 by default, 1.0 through Protocol Type(13) = 1")
 PROTOCOLS = {
@@ -138,14 +145,17 @@ PROTOCOLS = {
     "x": _PROTOCOLS_2_AND_1, "mx2": _PROTOCOLS_2_AND_1,
     "x330": ([2], "protocols: 2.0 only; Protocol Type 20/21/22 select RC receiver protocols (S.BUS, iBUS, "
                   "RC-PWM), which are not DYNAMIXEL bus protocols"),
-    "p": ([2], "protocols: 2.0 only; Protocol Type 10 (Modbus-RTU) is accepted by the item but is not a "
-               "DYNAMIXEL protocol and is not listed"),
+    "p": ([2, "modbus"], _MODBUS_NOTE),
+    # PRO(A) falls back to P elsewhere, but its pages have no Protocol Type item and no Modbus column.
+    "pro_a": ([2], "protocols: 2.0 only; the page has no Protocol Type item and no Modbus Address column"),
     "pro": ([2], None),
     "xl320": ([2], None),
     "y": ([2], "protocols: 2.0 only; the page's Protocol Type(11) row prints '2 (Dynamixel Protocol 2.0)' and "
-               "'10 (Modbus)': the item accepts both, but Modbus-RTU is not a DYNAMIXEL protocol, dxlemu does not "
-               "speak it, and it is not listed; the table's Modbus Address column and its Modbus-only rows "
-               "are not read"),
+               "'10 (Modbus)' and its table has a Modbus Address column, but dxlemu does not offer Modbus RTU on "
+               "DYNAMIXEL-Y because the sources disagree: another revision of the Y Protocol Type include marks "
+               "10 'TBD' and says Modbus will come later (modbus/modbus-rtu.md 'Where DYNAMIXEL speaks it'; "
+               "docs/modbus.md). The item accepts both values; the Modbus Address column and the Modbus-only "
+               "rows are not read"),
 }
 
 # Baud tables that are not in the offline reference (P and PRO includes were not copied).

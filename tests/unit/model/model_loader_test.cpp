@@ -211,6 +211,57 @@ TEST_CASE("The loader refuses other malformed values", "[model][loader]") {
         "/items: must list at least one item");
 }
 
+TEST_CASE("An item absent in a protocol the model speaks loads with that protocol",
+          "[model][loader]") {
+  json j = test::test_model_json();
+  j["protocols"] = json::array({2, "modbus"});
+  item(j, "return_delay_time")["absent_in"] = json::array({"modbus"});
+  const auto spec = model::model_from_json(j, "modbus.json");
+  CHECK(spec.protocols == std::vector{wire::Protocol::V2, wire::Protocol::Modbus});
+  const auto& delay = *spec.find("return_delay_time");
+  CHECK(delay.absent_in == std::vector{wire::Protocol::Modbus});
+  CHECK_FALSE(delay.present_in(wire::Protocol::Modbus));
+  CHECK(delay.present_in(wire::Protocol::V2));
+  CHECK(spec.find("id")->absent_in.empty());
+  CHECK(spec.find("id")->present_in(wire::Protocol::Modbus));
+
+  // Protocols with a number are written as that number, as in "protocols".
+  json numbered = test::test_model_json();
+  item(numbered, "return_delay_time")["absent_in"] = json::array({1});
+  CHECK(model::model_from_json(numbered, "v1.json").find("return_delay_time")->absent_in ==
+        std::vector{wire::Protocol::V1});
+}
+
+TEST_CASE("The loader refuses an absent_in that names a protocol the model does not speak",
+          "[model][loader]") {
+  const auto with_modbus = [](const json& absent_in) {
+    return [absent_in](json& j) {
+      j["protocols"] = json::array({2, "modbus"});
+      item(j, "return_delay_time")["absent_in"] = absent_in;
+    };
+  };
+  CHECK(refusal(with_modbus(json::array({"canbus"}))) ==
+        "/items/20/absent_in/0: unknown protocol \"canbus\" (known: 1, 2, \"feetech\", "
+        "\"modbus\")");
+  CHECK(refusal(with_modbus(json::array({3}))) ==
+        "/items/20/absent_in/0: must be between 1 and 2, got 3");
+  CHECK(refusal(with_modbus(json::array({1}))) ==
+        "/items/20/absent_in/0: names 1, which the model does not speak (its protocols: 2, "
+        "\"modbus\")");
+  CHECK(refusal(with_modbus(json::array({"modbus", "modbus"}))) ==
+        "/items/20/absent_in/1: lists a protocol twice");
+  CHECK(refusal(with_modbus(json::array())) ==
+        "/items/20/absent_in: must list at least one protocol");
+  CHECK(refusal(with_modbus(json::array({"modbus", 2}))) ==
+        "/items/20/absent_in: names every protocol the model speaks: an item none of them "
+        "reaches is no item");
+  CHECK(refusal(with_modbus("modbus")) == "/items/20/absent_in: must be an array");
+  // The test model speaks 2.0 and 1.0 only.
+  CHECK(refusal([](json& j) { item(j, "return_delay_time")["absent_in"] = {"modbus"}; }) ==
+        "/items/20/absent_in/0: names \"modbus\", which the model does not speak (its "
+        "protocols: 2, 1)");
+}
+
 TEST_CASE("A firmware variant replaces the indirect blocks and rebuilds their items only",
           "[model][loader]") {
   json j = test::test_model_json();
