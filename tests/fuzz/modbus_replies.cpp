@@ -52,21 +52,21 @@ bool ModbusReplies::check(std::span<const std::uint8_t> bytes, sim::SimTime at,
   FUZZ_REQUIRE_MSG(request_.has_value(),
                    "a Modbus delivery of %zu bytes answers no request a servo could answer",
                    bytes.size());
-  const wire::Frame request = *request_;
-  request_.reset();  // one answer per request
+  const wire::Frame& request = *request_;
   FUZZ_REQUIRE(at >= request.last_byte_at);
   // docs/modbus.md: a servo speaking Modbus has an address 1 ~ 247, whatever its ID was before.
   FUZZ_REQUIRE_MSG(request.id >= wire::kMinModbusAddress && request.id <= wire::kMaxModbusAddress,
                    "a Modbus delivery from address %u", unsigned{request.id});
-  if (normal_response(bytes) || exception_response(bytes)) {
-    return false;
+  const bool well_formed = normal_response(bytes) || exception_response(bytes);
+  if (!well_formed) {
+    // Servos sharing the address answer at once: the AND of their frames keeps the address.
+    FUZZ_REQUIRE_MSG(conflict_pending && senders_ > 1,
+                     "malformed Modbus delivery of %zu bytes to function 0x%02X from address %u",
+                     bytes.size(), unsigned{request.instruction}, unsigned{request.id});
+    FUZZ_REQUIRE(!bytes.empty() && bytes[0] == request.id);
   }
-  // Servos sharing the address answer at once: the AND of their frames keeps the address.
-  FUZZ_REQUIRE_MSG(conflict_pending && senders_ > 1,
-                   "malformed Modbus delivery of %zu bytes to function 0x%02X from address %u",
-                   bytes.size(), unsigned{request.instruction}, unsigned{request.id});
-  FUZZ_REQUIRE(!bytes.empty() && bytes[0] == request.id);
-  return true;
+  request_.reset();  // one answer per request
+  return !well_formed;
 }
 
 bool ModbusReplies::normal_response(std::span<const std::uint8_t> bytes) const {
