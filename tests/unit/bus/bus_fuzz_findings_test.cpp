@@ -76,3 +76,23 @@ TEST_CASE("A FEETECH position calibration the Position offset cannot reach chang
   rig.run();
   CHECK(servo.table().get("present_position") == 1024);
 }
+
+TEST_CASE("A 2.0 status stands when the Modbus servos reject the same bytes at the silence",
+          "[bus][fuzz][modbus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  model::Servo& modbus = rig.add("ph54-200-s500-r", 2);
+  modbus.table().set("protocol_type", wire::traits(Protocol::Modbus).type_value);
+  modbus.commit_deferred();
+  REQUIRE(modbus.protocol() == Protocol::Modbus);
+  // The Modbus servo's framer takes the Ping's bytes for a frame with a bad CRC once t3.5 has
+  // passed (1,750 us), before the status (Return Delay Time 500 us, then 14 bytes at 57600 bps)
+  // is out: that rejection cancelled the status as if new bytes had come (found by
+  // fuzz_bus_modbus, a servo switched to 2.0 among servos speaking Modbus).
+  rig.send({Protocol::V2, 1, wire::Ping{}});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes).rfind("id=1 error=0x00 params=", 0) == 0);
+  CHECK(rig.bus.stats().collisions == 0);
+  CHECK(rig.bus.stats().bad_checks == 1);
+}
