@@ -8,7 +8,7 @@ kLines: 0 is 57600 bit/s with modelled delays, 1 the same without, 2 is 9600 bit
 per frame (the first 15), each 66 ms after the one before has left the line, so that its
 response is out before the next frame comes. Register R holds control-table bytes 2R (low) and
 2R + 1 (high). The other files of the directory (named by their SHA-1) are what long runs
-found; this script leaves them alone. Run from the repository root:
+found, and regression-* the inputs of what they found, which this script leaves alone too. Run from the repository root:
 python3 tests/fuzz/modbus_bus_seeds.py
 """
 import os
@@ -177,6 +177,8 @@ def main():
          gaps={1: DEADLINE, 2: DEADLINE, 3: DEADLINE})
     seed('protocol_2_broadcast_ping', [write1(1, PROTOCOL_REG, 0x0200), v2(0xFE, 0x01),
          v2(1, 0x03, *le16(13), 10), read(1, 0, 2), v2(1, 0x01)])
+    seed('id_0_over_2_then_modbus', [write1(1, PROTOCOL_REG, 0x0200), v2(1, 0x03, *le16(7), 0),
+         v2(0, 0x03, *le16(13), 10), read(0, 0, 2), write1(0, TORQUE_REG, 1), read(1, 0, 2)])
     seed('led_and_torque', [write1(1, TORQUE_REG, 0x0101), read(1, TORQUE_REG, 2),
          write(1, TORQUE_REG, 0x0101, 0x0101), read(1, TORQUE_REG, 2)])
 
