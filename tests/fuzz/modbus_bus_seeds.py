@@ -8,7 +8,8 @@ kLines: 0 is 57600 bit/s with modelled delays, 1 the same without, 2 is 9600 bit
 per frame (the first 15), each 66 ms after the one before has left the line, so that its
 response is out before the next frame comes. Register R holds control-table bytes 2R (low) and
 2R + 1 (high). The other files of the directory (named by their SHA-1) are what long runs
-found, and regression-* the inputs of what they found, which this script leaves alone too. Run from the repository root:
+found, and regression-* the inputs of what they found; this script leaves both alone. Run from
+the repository root:
 python3 tests/fuzz/modbus_bus_seeds.py
 """
 import os
