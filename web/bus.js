@@ -33,7 +33,7 @@ function format(key, value, servo) {
     case 'hardware_error_status': case 'servo_status':
       return typeof value === 'number' ? `0x${value.toString(16).toUpperCase().padStart(2, '0')}` : String(value);
     case 'present_input_voltage': return typeof value === 'number' ? value.toFixed(1) : String(value);
-    case 'protocol': return servo.protocol === 'feetech' ? 'FEETECH' : String(value);
+    case 'protocol': return ({feetech: 'FEETECH', modbus: 'Modbus RTU'})[servo.protocol] ?? String(value);
     default: return typeof value === 'object' ? JSON.stringify(value) : String(value);
   }
 }

@@ -14,6 +14,7 @@ const kSnapLength = 262144;
 function protocolByte(protocol) {
   if (protocol === 1 || protocol === 2) return protocol;
   if (protocol === 'feetech') return 0x46;
+  if (protocol === 'modbus') return 10;  // the Protocol Type value, as --pcap writes it
   return 0;
 }
 

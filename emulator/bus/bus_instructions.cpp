@@ -38,8 +38,18 @@ void Bus::single(const Packet& packet) {
   const auto* write = std::get_if<wire::Write>(&instruction.instruction);
   for (const auto& [l, addressing] : targets) {
     Node& s = *l->node;
-    model::ServoResponse r = s.servo->execute(instruction, addressing);
-    if (write != nullptr && faulty()) {
+    // A fault may make the servo refuse the packet unexecuted, with a code of its choosing
+    // (modbus_exception): answered as a refusal is, after a refusal's processing time.
+    const bool refused = l->hearing.refusal != 0;
+    model::ServoResponse r =
+        refused ? s.servo->refuse({wire::DecodeErrorKind::BadValue, instruction.id,
+                                   packet.heard.instruction, "refused by a fault rule"},
+                                  broadcast)
+                : s.servo->execute(instruction, addressing);
+    if (refused) {
+      r.error = l->hearing.refusal;
+    }
+    if (write != nullptr && !refused && faulty()) {
       faults_->wrote(packet.heard, s.index, write->address, write->data);
     }
     if (r.replies && l->hearing.answers) {

@@ -17,6 +17,9 @@ struct Hearing {
   bool answers = true;  ///< false: it executes the packet but sends no status
   /// Extra processing time before its status (a duration, added to the modelled one).
   sim::SimDuration extra_delay{0};
+  /// Not 0: the servo does not execute the packet and answers it as a refusal whose status
+  /// carries this code (Modbus RTU: an exception response with this exception code).
+  std::uint8_t refusal = 0;
 };
 
 /// What happens to an instruction on its way to the servos (and back to the client, for echo).

@@ -237,7 +237,14 @@ ordered_json servo_factory_reset(Target& target, const Args& args) {
   } else if (keep != "none") {
     refuse("\"keep\" must be \"none\", \"id\" or \"id_baud\", not " + json_quoted(keep));
   }
-  if (option != wire::factory_reset::kResetAll && p.servo.protocol() != wire::Protocol::V2) {
+  // Modbus RTU has no Factory Reset (nor Reboot): the control API resets a servo speaking it
+  // device-side as the model's own firmware does over 2.0, options included (DYNAMIXEL-P);
+  // Protocol Type goes back to its factory value with the rest (docs/control-api.md).
+  const auto protocol = p.servo.protocol();
+  const bool has_options =
+      protocol == wire::Protocol::V2 ||
+      (protocol == wire::Protocol::Modbus && p.servo.spec().speaks(wire::Protocol::V2));
+  if (option != wire::factory_reset::kResetAll && !has_options) {
     refuse("servo " + std::to_string(p.servo.id()) + " on " + p.port.name +
            " does not speak Protocol 2.0, whose Factory Reset alone can keep the ID or baud");
   }

@@ -83,6 +83,12 @@ bool Injector::fires(Entry& entry, const PacketFacts& facts) {
   if (!matches(entry.rule.match, facts) || !in_window(entry.rule.trigger, entry.added, facts.at)) {
     return false;
   }
+  // Only a protocol whose refusals are exception codes has an exception response to send: on
+  // the others the rule does not match (nor count) at all.
+  if (entry.rule.action == Action::ModbusException &&
+      wire::traits(facts.protocol).status.shape != wire::StatusShape::ExceptionCode) {
+    return false;
+  }
   const Trigger& t = entry.rule.trigger;
   ++entry.matched;
   if (entry.matched <= t.after || (t.count && entry.fired >= *t.count) ||
@@ -120,15 +126,19 @@ bus::InstructionEffects Injector::instruction(const PacketFacts& facts) {
 
 ServoEffects Injector::servo(const PacketFacts& facts) {
   ServoEffects out;
-  fire({Action::Silence, Action::SilenceUntilReboot, Action::Slow}, facts, [&](Entry& e) {
-    if (e.rule.action == Action::Silence) {
-      out.silence = true;
-    } else if (e.rule.action == Action::SilenceUntilReboot) {
-      out.silence_until_reboot = true;
-    } else {
-      out.slow += e.rule.delay;
-    }
-  });
+  fire({Action::Silence, Action::SilenceUntilReboot, Action::Slow, Action::ModbusException}, facts,
+       [&](Entry& e) {
+         if (e.rule.action == Action::Silence) {
+           out.silence = true;
+         } else if (e.rule.action == Action::SilenceUntilReboot) {
+           out.silence_until_reboot = true;
+         } else if (e.rule.action == Action::ModbusException) {
+           // The oldest rule's code: one exception response carries one code.
+           out.exception = out.exception != 0 ? out.exception : e.rule.code;
+         } else {
+           out.slow += e.rule.delay;
+         }
+       });
   return out;
 }
 

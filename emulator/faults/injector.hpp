@@ -37,7 +37,11 @@ struct ServoEffects {
   bool silence = false;               ///< the servo ignores the packet
   bool silence_until_reboot = false;  ///< the servo ignores everything until a Reboot
   sim::SimDuration slow{0};           ///< extra processing time
-  bool any() const { return silence || silence_until_reboot || slow.count() != 0; }
+  /// Not 0: the servo refuses the packet unexecuted with this exception code (modbus_exception).
+  std::uint8_t exception = 0;
+  bool any() const {
+    return silence || silence_until_reboot || slow.count() != 0 || exception != 0;
+  }
 };
 
 /// The fault rules of a daemon and their state: which fired how often, each rule's own random

@@ -5,6 +5,7 @@
 
 #include "wire/checksum.hpp"
 #include "wire/crc16.hpp"
+#include "wire/crc16_modbus.hpp"
 
 namespace dxlemu::faults {
 
@@ -33,6 +34,18 @@ void flip_bits(std::vector<std::uint8_t>& bytes, std::uint32_t bits, sim::Random
 }
 
 void set_id(std::vector<std::uint8_t>& packet, wire::Protocol protocol, std::uint8_t id) {
+  if (wire::traits(protocol).frame.check == wire::CheckKind::Crc16Modbus) {
+    // ADDRESS FUNCTION DATA... CRC_L CRC_H (Modbus RTU): the address is the first byte.
+    constexpr std::size_t kShortest = 4;
+    if (packet.size() < kShortest) {
+      return;
+    }
+    packet[0] = id;
+    const std::uint16_t crc = wire::crc16_modbus({packet.data(), packet.size() - 2});
+    packet[packet.size() - 2] = static_cast<std::uint8_t>(crc & 0xFF);
+    packet[packet.size() - 1] = static_cast<std::uint8_t>(crc >> 8);
+    return;
+  }
   if (wire::has_v1_layout(protocol)) {
     // FF FF ID LEN ERR PARAM... CHECKSUM (1.0 and FEETECH)
     if (packet.size() < 6) {

@@ -11,7 +11,8 @@ namespace dxlemu::faults {
 // Byte-level damage to status packets, as the wire faults of docs/faults.md apply it. Pure
 // functions of their inputs (and of the stream they draw from).
 
-/// Makes the CRC (2.0) or checksum (1.0) of `packet` wrong by inverting its last byte. Nothing
+/// Makes the CRC (2.0; Modbus RTU's CRC-16 too) or checksum (1.0) of `packet` wrong by inverting
+/// its last byte. Nothing
 /// happens to an empty packet.
 void break_check(std::vector<std::uint8_t>& packet);
 
@@ -19,9 +20,9 @@ void break_check(std::vector<std::uint8_t>& packet);
 /// are fewer than `bits`).
 void flip_bits(std::vector<std::uint8_t>& bytes, std::uint32_t bits, sim::RandomStream& stream);
 
-/// Rewrites the ID of status packet `packet` (of `protocol`) to `id` and recomputes its check, so
-/// that the client receives a valid packet from the wrong servo. A packet too short to hold an
-/// ID is left alone.
+/// Rewrites the ID of status packet `packet` (of `protocol`; a Modbus response's address) to `id`
+/// and recomputes its check, so that the client receives a valid packet from the wrong servo. A
+/// packet too short to hold an ID is left alone.
 void set_id(std::vector<std::uint8_t>& packet, wire::Protocol protocol, std::uint8_t id);
 
 /// `count` bytes drawn from `stream`.

@@ -77,11 +77,13 @@ bus::Hearing PortFaults::hear(const bus::HeardPacket& packet, std::size_t servo)
     s.silent_until_reboot = true;
     stateful_ = true;
   }
-  bus::Hearing out{!effects.silence, true, effects.slow};
+  bus::Hearing out{!effects.silence, true, effects.slow, effects.exception};
   if (s.silent_until_reboot) {
-    // Its firmware still reacts to a Reboot sent to its own ID, without answering.
-    const bool reboot = packet.instruction == wire::to_byte(wire::InstructionCode::Reboot) &&
-                        id == packet.id && packet.decoded != nullptr;
+    // Its firmware still reacts to a Reboot sent to its own ID, without answering. By what the
+    // packet decodes to: 0x08 is Diagnostics in Modbus RTU, which has no Reboot.
+    const bool reboot = packet.decoded != nullptr &&
+                        std::holds_alternative<wire::Reboot>(packet.decoded->instruction) &&
+                        id == packet.id;
     (reboot ? out.answers : out.hears) = false;
   }
   return out;

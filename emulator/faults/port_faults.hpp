@@ -43,8 +43,8 @@ class PortFaults : public bus::FaultHooks {
   /// The instruction rules' effects (corrupt_instruction, echo_instruction, noise).
   bus::InstructionEffects instruction(const bus::HeardPacket& packet,
                                       std::vector<std::uint8_t> ids) override;
-  /// The servo rules' answer (silence, silence_until_reboot, slow), and a silence until reboot
-  /// that an earlier one left.
+  /// The servo rules' answer (silence, silence_until_reboot, slow, modbus_exception), and a
+  /// silence until reboot that an earlier one left.
   bus::Hearing hear(const bus::HeardPacket& packet, std::size_t servo) override;
   /// EEPROM bytes the servo stored may keep it deaf for a while (eeprom_busy).
   void wrote(const bus::HeardPacket& packet, std::size_t servo, std::uint16_t address,

@@ -11,7 +11,7 @@ struct Named {
   std::string_view name;
 };
 
-constexpr std::array<Named, 16> kNames{{
+constexpr std::array<Named, 17> kNames{{
     {Action::DropReply, "drop_reply"},
     {Action::DelayReply, "delay_reply"},
     {Action::CorruptCrc, "corrupt_crc"},
@@ -28,6 +28,7 @@ constexpr std::array<Named, 16> kNames{{
     {Action::SilenceUntilReboot, "silence_until_reboot"},
     {Action::Slow, "slow"},
     {Action::EepromBusy, "eeprom_busy"},
+    {Action::ModbusException, "modbus_exception"},
 }};
 
 }  // namespace

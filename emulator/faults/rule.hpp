@@ -31,6 +31,9 @@ enum class Action : std::uint8_t {
   SilenceUntilReboot,  ///< the servo goes silent until a Reboot or a power cycle
   Slow,                ///< the servo takes `delay` longer to process the packet
   EepromBusy,          ///< after an EEPROM write the servo is deaf for `per_byte` per byte
+  /// A Modbus RTU servo refuses the request unexecuted, answering exception `code` (never matches
+  /// a packet of another protocol).
+  ModbusException,
 };
 
 /// The snake_case name of `action` ("drop_reply"), as in rules.
@@ -68,6 +71,10 @@ struct Trigger {
   std::optional<sim::SimDuration> until;
 };
 
+/// modbus_exception's code unless a rule gives one: 06, Server Device Busy (modbus-rtu.md
+/// "Exception responses"), what a busy device answers.
+inline constexpr std::uint8_t kDefaultExceptionCode = 0x06;
+
 /// One fault rule: what to do, to which traffic, when. Parameters irrelevant to the action keep
 /// their defaults.
 struct Rule {
@@ -81,6 +88,8 @@ struct Rule {
   std::optional<std::uint8_t> id;    ///< wrong_id; nullopt: the servo's own ID + 1
   model::HardwareFault kind = model::HardwareFault::Overheating;  ///< hardware_error
   sim::SimDuration per_byte{0};  ///< eeprom_busy: deaf time per EEPROM byte written
+  /// modbus_exception: the exception code (06: Server Device Busy).
+  std::uint8_t code = kDefaultExceptionCode;
 };
 
 }  // namespace dxlemu::faults

@@ -179,6 +179,8 @@ std::set<std::string> parameters_of(Action action) {
       return {"kind"};
     case Action::EepromBusy:
       return {"us_per_byte"};
+    case Action::ModbusException:
+      return {"code"};
     default:
       return {};
   }
@@ -221,6 +223,10 @@ void parse_parameter(Rule& rule, const std::string& key, const json& v) {
     rule.kind = *kind;
   } else if (key == "us_per_byte") {
     rule.per_byte = microseconds(v, pointer);
+  } else if (key == "code") {
+    // Any code a one-byte exception field carries: 01 ~ 04 are what a DYNAMIXEL sends, the
+    // others test how a master takes the rest (05 Acknowledge, 06 Busy, 0B Gateway...).
+    rule.code = static_cast<std::uint8_t>(integer(v, pointer, 1, 0xFF));
   }
 }
 
@@ -379,6 +385,9 @@ ordered_json rule_json(const Rule& rule) {
       break;
     case Action::EepromBusy:
       out["us_per_byte"] = us(rule.per_byte);
+      break;
+    case Action::ModbusException:
+      out["code"] = rule.code;
       break;
     default:
       break;

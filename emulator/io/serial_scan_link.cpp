@@ -49,6 +49,12 @@ std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::Instruction
   }
   // The framer takes arrival times; time since the send stands in for the simulated time.
   const Clock::time_point start = Clock::now();
+  // A frame that ends at a silence (Modbus RTU) cannot be timed here: a USB adapter hands the
+  // bytes over in chunks, with gaps longer than the silence. Every chunk is fed at one instant,
+  // and a reply is taken as ended once the bytes so far make a whole response (a good CRC and
+  // the layout of its function), or when no more bytes come.
+  const bool silence_delimited =
+      wire::traits(packet.protocol).frame.delimiting == wire::Delimiting::Silence;
   wire::StatusReader reader(packet.protocol);
   std::vector<wire::StatusPacket> replies;
   std::array<std::uint8_t, 512> buffer{};
@@ -67,9 +73,24 @@ std::vector<wire::StatusPacket> SerialScanLink::exchange(const wire::Instruction
       continue;
     }
     const Clock::time_point now = Clock::now();
-    reader.feed(std::span(buffer).first(static_cast<std::size_t>(n)),
-                sim::SimTime{std::chrono::duration_cast<sim::SimDuration>(now - start)}, replies);
+    const auto chunk = std::span(buffer).first(static_cast<std::size_t>(n));
+    if (silence_delimited) {
+      reader.feed(chunk, sim::SimTime{}, replies);
+      wire::StatusReader ended = reader;
+      std::vector<wire::StatusPacket> whole;
+      ended.end_of_write(whole);
+      if (!whole.empty()) {
+        reader = std::move(ended);
+        replies.insert(replies.end(), whole.begin(), whole.end());
+      }
+    } else {
+      reader.feed(chunk, sim::SimTime{std::chrono::duration_cast<sim::SimDuration>(now - start)},
+                  replies);
+    }
     give_up = now + timeout;
+  }
+  if (silence_delimited && replies.size() < max_replies) {
+    reader.end_of_write(replies);
   }
   return replies;
 }

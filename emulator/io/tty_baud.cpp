@@ -12,13 +12,17 @@ std::uint32_t tty_baud(int fd) {
   if (ioctl(fd, TCGETS2, &t) != 0) {
     return 0;
   }
+  return heard_baud(t.c_cflag, t.c_ospeed);
+}
+
+std::uint32_t heard_baud(unsigned cflag, std::uint32_t ospeed) {
   // A parity bit lands where the servo expects the stop bit, and 7-bit characters are shorter
   // than the servo's: either way what it hears is noise, as from a client at another rate.
-  if ((t.c_cflag & PARENB) != 0 || (t.c_cflag & CSIZE) != CS8) {
+  if ((cflag & PARENB) != 0 || (cflag & CSIZE) != CS8) {
     return 0;
   }
   // The client sets the speed it transmits at; a PTY carries it without effect on timing.
-  return t.c_ospeed;
+  return ospeed;
 }
 
 }  // namespace dxlemu::io

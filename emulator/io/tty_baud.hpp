@@ -11,4 +11,8 @@ namespace dxlemu::io {
 /// and character format").
 std::uint32_t tty_baud(int fd);
 
+/// What tty_baud() makes of a terminal's control flags `cflag` (termios `c_cflag`) and output
+/// speed `ospeed`: the speed, or 0 when the characters are not 8 data bits without parity.
+std::uint32_t heard_baud(unsigned cflag, std::uint32_t ospeed);
+
 }  // namespace dxlemu::io

@@ -6,6 +6,7 @@
 #include "app/daemon/bus_state.hpp"
 #include "model/table/item_encoding.hpp"
 #include "wire/instruction_decoder.hpp"
+#include "wire/modbus_codec.hpp"
 
 namespace dxlemu::scan {
 namespace {
@@ -22,8 +23,11 @@ constexpr std::uint8_t kFeetechBigEndian = 1;
 // Items are read in runs of at most this many bytes, joining items this close together.
 constexpr std::size_t kMaxReadBytes = 128;
 constexpr std::size_t kMaxGapBytes = 16;
-// Progress during a 1.0 sweep: a line every so many IDs.
+// Progress during a 1.0 or Modbus sweep: a line every so many IDs.
 constexpr int kProgressEvery = 64;
+// A Modbus sweep reads holding registers 0 and 1: the Model Number (bytes 0 and 1) and the two
+// bytes after it (DYNAMIXEL-P: Model Information).
+constexpr std::uint16_t kModbusHeadLength = 4;
 
 std::uint16_t word(std::uint8_t low, std::uint8_t high) {
   return static_cast<std::uint16_t>(low | (high << 8));
@@ -85,6 +89,9 @@ class Scanner {
       if (wants(wire::Protocol::V1) || wants(wire::Protocol::Feetech)) {
         scan_v1(bps);
       }
+      if (wants(wire::Protocol::Modbus)) {
+        scan_modbus(bps);
+      }
     }
     return std::move(found_);
   }
@@ -138,6 +145,56 @@ class Scanner {
               " found");
   }
 
+  void scan_modbus(std::uint32_t bps) {
+    // Modbus RTU has no Ping: a read of the Model Number from each slave address (modbus.md
+    // "The register map": register 0 holds table bytes 0 and 1).
+    const wire::ProtocolTraits& row = wire::traits(wire::Protocol::Modbus);
+    const int first = std::max<int>(options_.first_id, row.min_unicast_id);
+    const int last = std::min<int>(options_.last_id, row.max_unicast_id);
+    std::size_t count = 0;
+    for (int id = first; id <= last; ++id) {
+      if ((id - first) % kProgressEvery == 0 && id != first) {
+        progress_(std::to_string(bps) + " bps, Modbus RTU: address " + std::to_string(id) + "...");
+      }
+      const auto ident = static_cast<std::uint8_t>(id);
+      const auto head = link_.exchange(
+          {wire::Protocol::Modbus, ident, wire::Read{0, kModbusHeadLength}}, 1, options_.timeout);
+      if (head.empty() || head.front().id != ident) {
+        continue;
+      }
+      const auto bytes = wire::registers_read(head.front().params);
+      if (!bytes || bytes->size() != kModbusHeadLength) {
+        progress_("address " + std::to_string(id) + " at " + std::to_string(bps) +
+                  " bps (Modbus RTU) answered " +
+                  (head.front().error != 0 ? "exception " + std::to_string(head.front().error)
+                                           : std::string("a response of another length")) +
+                  " to a read of its Model Number; left out");
+        continue;
+      }
+      ++count;
+      add(identify_modbus(bps, ident, word((*bytes)[0], (*bytes)[1])));
+    }
+    progress_(std::to_string(bps) + " bps, Modbus RTU: " + std::to_string(count) + " found");
+  }
+
+  /// A servo that answered a Modbus read of its Model Number: a ROBOTIS model that speaks Modbus
+  /// RTU, whose Firmware Version is read from where its model file puts it.
+  FoundServo identify_modbus(std::uint32_t bps, std::uint8_t id, std::uint16_t number) {
+    FoundServo servo{bps, wire::Protocol::Modbus, id, number, 0, nullptr, {}};
+    auto spec = library_.find(number, model::Maker::Robotis);
+    if (!spec || !spec->speaks(wire::Protocol::Modbus)) {
+      return servo;
+    }
+    if (const model::ItemSpec* firmware = spec->find("firmware_version")) {
+      const std::vector<std::uint8_t> bytes = read(servo, firmware->address, firmware->size);
+      if (bytes.size() == firmware->size) {
+        servo.firmware = bytes[0];
+      }
+    }
+    servo.spec = identify(library_, number, model::Maker::Robotis, servo.firmware);
+    return servo;
+  }
+
   /// A servo that answered a 1.0 Ping: DYNAMIXEL 1.0 or FEETECH, by the model number its table
   /// holds where each maker keeps it.
   FoundServo identify_v1(std::uint32_t bps, std::uint8_t id) {
@@ -188,10 +245,23 @@ class Scanner {
   void read_items(FoundServo& servo) {
     const model::ModelSpec& spec = *servo.spec;
     std::vector<const model::ItemSpec*> items;
+    std::size_t absent = 0;
     for (const model::ItemSpec& item : spec.items) {
-      if (app::is_non_volatile(item)) {
-        items.push_back(&item);
+      if (!app::is_non_volatile(item)) {
+        continue;
       }
+      // An item the protocol's map leaves out (Modbus RTU's N/A) cannot be read: it keeps its
+      // factory value, and has no effect while the servo speaks that protocol.
+      if (!item.present_in(servo.protocol)) {
+        ++absent;
+        continue;
+      }
+      items.push_back(&item);
+    }
+    if (absent != 0) {
+      progress_("ID " + std::to_string(servo.id) + ": " + std::to_string(absent) +
+                " items are not in the " + protocol_text(servo.protocol) +
+                " map; left at their factory values");
     }
     std::sort(items.begin(), items.end(),
               [](const auto* a, const auto* b) { return a->address < b->address; });
@@ -220,16 +290,32 @@ class Scanner {
     }
   }
 
+  /// Bytes `address` ~ `address + length - 1` of the servo's table; empty when they did not
+  /// come. A protocol of registers (Modbus RTU) reads the whole registers that hold them.
   std::vector<std::uint8_t> read(const FoundServo& servo, std::uint16_t address,
                                  std::uint16_t length) {
-    const auto replies = link_.exchange({servo.protocol, servo.id, wire::Read{address, length}}, 1,
-                                        options_.timeout);
-    // The error byte may report a hardware error (1.0, FEETECH) beside good data: the length
-    // tells whether the data came.
+    const std::size_t unit = std::max<std::size_t>(wire::traits(servo.protocol).register_bytes, 1);
+    const std::size_t first = address / unit * unit;
+    const std::size_t end = (std::size_t{address} + length + unit - 1) / unit * unit;
+    const auto replies = link_.exchange(
+        {servo.protocol, servo.id,
+         wire::Read{static_cast<std::uint16_t>(first), static_cast<std::uint16_t>(end - first)}},
+        1, options_.timeout);
     if (replies.empty() || replies.front().id != servo.id) {
       return {};
     }
-    return replies.front().params;
+    // A Modbus response's data is a byte count and registers; an exception response has none.
+    std::vector<std::uint8_t> params = replies.front().params;
+    if (servo.protocol == wire::Protocol::Modbus) {
+      params = wire::registers_read(params).value_or(std::vector<std::uint8_t>{});
+    }
+    // The error byte may report a hardware error (1.0, FEETECH) beside good data: the length
+    // tells whether the data came.
+    if (params.size() != end - first) {
+      return {};
+    }
+    return {params.begin() + static_cast<std::ptrdiff_t>(address - first),
+            params.begin() + static_cast<std::ptrdiff_t>(address - first + length)};
   }
 
   ScanLink& link_;
@@ -240,6 +326,12 @@ class Scanner {
 };
 
 }  // namespace
+
+std::vector<wire::Protocol> default_scan_protocols() {
+  std::vector<wire::Protocol> out = wire::all_protocols();
+  std::erase(out, wire::Protocol::Modbus);
+  return out;
+}
 
 std::vector<std::uint32_t> default_scan_bauds(const app::ModelLibrary& library) {
   std::set<std::uint32_t, std::greater<>> offered;

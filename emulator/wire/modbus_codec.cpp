@@ -1,5 +1,6 @@
 #include "wire/modbus_codec.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -219,6 +220,49 @@ DecodeResult<InstructionPacket> decode_modbus_request(const Frame& frame) {
     return std::move(*error);
   }
   return InstructionPacket{frame.protocol, frame.id, std::get<Instruction>(std::move(decoded))};
+}
+
+std::optional<std::vector<std::uint8_t>> registers_read(std::span<const std::uint8_t> data) {
+  if (data.empty() || data[0] % kRegisterBytes != 0 || data.size() != 1U + data[0]) {
+    return std::nullopt;
+  }
+  return table_order(data.subspan(1));
+}
+
+DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame) {
+  const auto fail = [&](const std::string& rule) {
+    return DecodeError{DecodeErrorKind::NotStatus, frame.id, frame.instruction,
+                       "Modbus response " + rule};
+  };
+  ModbusResponse out{
+      frame.id, static_cast<std::uint8_t>(frame.instruction & ~kExceptionBit), 0, {}};
+  const std::vector<std::uint8_t>& p = frame.params;
+  if ((frame.instruction & kExceptionBit) != 0) {
+    if (p.size() != 1) {
+      return fail("with an exception carries one byte, got " + std::to_string(p.size()));
+    }
+    out.exception = p[0];
+    return out;
+  }
+  const auto served = std::find_if(kModbusDecoders.begin(), kModbusDecoders.end(),
+                                   [&](const Entry& e) { return to_byte(e.code) == out.function; });
+  if (served == kModbusDecoders.end()) {
+    return fail("to function " + std::to_string(out.function) + ", which no server here serves");
+  }
+  const bool reads = served->code == ModbusFunction::ReadHoldingRegisters ||
+                     served->code == ModbusFunction::ReadInputRegisters ||
+                     served->code == ModbusFunction::ReadWriteMultipleRegisters;
+  if (!reads) {
+    out.data = p;
+    return out;
+  }
+  auto bytes = registers_read(p);
+  if (!bytes) {
+    return fail("to a read needs a byte count and that many bytes of whole registers, got " +
+                std::to_string(p.size()) + " data bytes");
+  }
+  out.data = std::move(*bytes);
+  return out;
 }
 
 StatusPacket decode_modbus_status(const Frame& frame) {

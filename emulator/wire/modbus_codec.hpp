@@ -23,6 +23,32 @@ namespace dxlemu::wire {
 /// BadLength, registers beyond 16-bit byte addresses BadAddress.
 DecodeResult<InstructionPacket> decode_modbus_request(const Frame& frame);
 
+/// A Modbus response as a master reads it (modbus-rtu.md "Exception responses" and the normal
+/// response of each function).
+struct ModbusResponse {
+  std::uint8_t address = 0;
+  /// The function it answers, without the exception bit (0x80).
+  std::uint8_t function = 0;
+  /// The exception code of an exception response (function | 0x80, code); 0: a normal response.
+  std::uint8_t exception = 0;
+  /// Read Holding/Input Registers, Read/Write Multiple Registers: the registers read, as the
+  /// control-table bytes they hold (each register's low byte first). Write Single Register,
+  /// Write Multiple Registers, Diagnostics: the data field as it came (the echo).
+  std::vector<std::uint8_t> data;
+  bool operator==(const ModbusResponse&) const = default;
+};
+
+/// Decodes a Modbus response frame (a master's: tests, `dxlemu clone`): an exception response
+/// carries one byte, its code; a read's response a byte count then that many bytes, an even
+/// number; the others are taken as they come. A frame that does not fit its function's layout,
+/// or answers a function the DYNAMIXEL servers do not serve, is NotStatus.
+DecodeResult<ModbusResponse> decode_modbus_response(const Frame& frame);
+
+/// The control-table bytes the data of a read's normal response carries (a byte count, then
+/// that many bytes of registers, each big-endian), each register's low byte first; nullopt when
+/// the data is not that (decode_modbus_status() leaves a response's data as it came).
+std::optional<std::vector<std::uint8_t>> registers_read(std::span<const std::uint8_t> data);
+
 /// A Modbus response as a status: the exception code as its error (0 for a normal response)
 /// and the response's data after the function code as its parameters (for traces; a master
 /// that needs the registers reads them from the data).

@@ -17,8 +17,14 @@ class StatusReader {
   explicit StatusReader(Protocol protocol) : framer_(protocol) {}
   /// Consumes `bytes` that arrived at `at` and appends the status packets they complete.
   void feed(std::span<const std::uint8_t> bytes, sim::SimTime at, std::vector<StatusPacket>& out);
+  /// The line is taken to be silent from here on: a frame of a silence-delimited protocol (Modbus
+  /// RTU) still being read ends now, and its status is appended. A master that cannot time the
+  /// line's silences (bytes read in chunks off a USB adapter) ends its frames this way.
+  void end_of_write(std::vector<StatusPacket>& out);
 
  private:
+  void decode(std::vector<StatusPacket>& out);
+
   Framer framer_;
   std::vector<FramerEvent> events_;
 };

@@ -131,6 +131,29 @@ class CloneTest(unittest.TestCase):
             ({"model": "sts3215", "id": i}, 1000000, "feetech") for i in (1, 2, 3)] + [
             ({"model": "scs0009", "id": 8}, 1000000, "feetech")])
 
+    def test_modbus_servos_are_found_only_when_asked_and_cloned_by_their_registers(self):
+        ph = {"model": "ph42-020-s300-r", "ids": [3, 9], "protocol": "modbus",
+              "items": {"homing_offset": -300, "velocity_limit": 1000}}
+        trace = self.path("trace.jsonl")
+        original = self.serve({"ports": [{"name": "hand", "servos": [ph]}]}, "original",
+                              "--trace", trace)
+        config = self.clone(original, "--protocol", "modbus", "--baud", "57600", "--ids", "0-10")
+        servos = config["ports"][0]["servos"]
+        self.assertEqual([(s["model"], s["id"]) for s in servos],
+                         [("ph42-020-s300-r", 3), ("ph42-020-s300-r", 9)])
+        self.assertIn("Modbus RTU", servos[0]["description"])
+        for servo in servos:
+            self.assertEqual(servo["items"]["protocol_type"], 10)
+            self.assertEqual(servo["items"]["homing_offset"], -300)
+            self.assertEqual(servo["items"]["velocity_limit"], 1000)
+        # Only Read Holding Registers crossed the line.
+        with open(trace, encoding="utf-8") as f:
+            heard = [json.loads(line) for line in f]
+        asked = {r["packet"].split()[1] for r in heard if r["dir"] == "in" and "packet" in r}
+        self.assertEqual(asked, {"read_holding_registers"})
+        # The cloned config is served as it was.
+        self.serve(config, "cloned")
+
     def test_a_bus_where_nothing_answers_is_an_error_and_writes_nothing(self):
         original = self.serve({"ports": [{"name": "empty", "servos": []}]}, "original")
         out = self.path("cloned.json")

@@ -244,7 +244,13 @@ class DaemonTest(unittest.TestCase):
                               (["--servo", "ax-12a:1", "--baud", "4500000"],
                                "--baud: ax-12a cannot do 4500000 bps (it offers 1000000"),
                               (["--servo", "xl-320:1", "--protocol", "1"],
-                               "--protocol: xl-320 cannot speak protocol 1"),
+                               "--protocol: xl-320 cannot speak Protocol 1.0; the models that "
+                               "can: "),
+                              (["--servo", "xm430-w350:1", "--protocol", "modbus"],
+                               "--protocol: xm430-w350 cannot speak Modbus RTU; the models that "
+                               "can: ph42-020-s300-r"),
+                              (["--servo", "ph42-020-s300-r:0", "--protocol", "modbus"],
+                               "servo ph42-020-s300-r:0 speaks Modbus RTU, whose IDs are 1 ~ 247"),
                               (["--timing", "slow"], "--timing: slow not in"),
                               (["--config", "x.json", "--servo", "ax-12a:1"],
                                "--config excludes --servo")]:

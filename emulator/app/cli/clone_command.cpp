@@ -29,10 +29,11 @@ std::pair<std::uint8_t, std::uint8_t> id_range(const std::string& text) {
                               std::to_string(wire::highest_unicast_id()));
 }
 
-// The protocols --protocol spells (the CLI accepted only their spellings); empty: all.
+// The protocols --protocol spells (the CLI accepted only their spellings); empty: the default
+// scan's (all but Modbus RTU).
 std::vector<wire::Protocol> protocols_of(const std::vector<std::string>& spellings) {
   if (spellings.empty()) {
-    return wire::all_protocols();
+    return scan::default_scan_protocols();
   }
   std::vector<wire::Protocol> out;
   for (const std::string& spelling : spellings) {

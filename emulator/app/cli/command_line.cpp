@@ -122,11 +122,12 @@ CLI::App* add_clone(CLI::App& app, CommandLine& line) {
                   "1000000, 57600 and 115200 first)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--protocol", clone.protocols,
-                  "Only this protocol: 1, 2 or feetech (repeatable; default: all)")
+                  "Only this protocol: 1, 2, feetech or modbus (repeatable; default: all but "
+                  "modbus, whose sweep of every address is asked for by name)")
       ->check(CLI::IsMember(wire::protocol_spellings()));
   cmd->add_option("--ids", clone.ids,
-                  "The IDs the Protocol 1.0 and FEETECH sweep pings, FIRST-LAST (2.0 finds "
-                  "every ID with one broadcast Ping)")
+                  "The IDs the Protocol 1.0, FEETECH and Modbus sweeps ask, FIRST-LAST (2.0 finds "
+                  "every ID with one broadcast Ping; Modbus asks 1 ~ 247 of them)")
       ->capture_default_str();
   cmd->add_option("--timeout-ms", clone.timeout_ms,
                   "How long to wait for a reply: 34 suits a USB adapter at its 16 ms latency "
@@ -257,8 +258,10 @@ const CLI::Option* add_bus_options(CLI::App& run, CommandLine& line) {
                  "default: each model's factory rate or the config's")
       ->type_name("BPS");
   run.add_option("--protocol", line.protocol,
-                 "Set Protocol Type to 1 or 2 on the models that have it; default: factory")
-      ->check(CLI::IsMember({1, 2}));
+                 "Make every servo speak this protocol: 1, 2 (DYNAMIXEL), modbus (Modbus RTU) or "
+                 "feetech; sets Protocol Type on the models that have it (an error for a model "
+                 "that cannot speak it); default: factory")
+      ->check(CLI::IsMember(wire::protocol_spellings()));
   return link_option;
 }
 

@@ -25,7 +25,7 @@ struct CtlArguments {
 /// `dxlemu models`' filters, as given (README.md "Running the emulator").
 struct ModelsArguments {
   std::string family;                   ///< --family; empty: any
-  std::optional<std::string> protocol;  ///< --protocol: "1", "2" or "feetech"
+  std::optional<std::string> protocol;  ///< --protocol: "1", "2", "feetech" or "modbus"
   std::string name;                     ///< --name, a fragment of the name or title; empty: any
 };
 
@@ -36,7 +36,7 @@ struct CloneArguments {
   std::string name = "dxl0";           ///< --name: the port's name in the config
   std::string link;                    ///< --link: the cloned port's link in the config
   std::vector<std::uint32_t> bauds;    ///< --baud, repeatable; empty: every rate of the library
-  std::vector<std::string> protocols;  ///< --protocol: "1", "2", "feetech"; empty: all
+  std::vector<std::string> protocols;  ///< --protocol: wire::protocol_spellings(); empty: see clone
   std::string ids = "0-253";           ///< --ids FIRST-LAST, for the 1.0 and FEETECH sweep
   int timeout_ms = 34;                 ///< --timeout-ms
 };
@@ -63,8 +63,8 @@ struct CommandLine {
   std::vector<RobotRequest> robots;
   /// --hand of run without --robot (with --config or --servo), each value as given.
   std::vector<std::string> hands;
-  std::optional<std::uint32_t> baud;  ///< --baud
-  std::optional<int> protocol;        ///< --protocol
+  std::optional<std::uint32_t> baud;    ///< --baud
+  std::optional<std::string> protocol;  ///< --protocol: a wire::protocol_spellings() entry
   // run: the daemon.
   RunOptions options;  ///< what --state, --control, --trace, --pcap, --scenario, --seed set
   std::string timing;  ///< --timing, before kTimingModes

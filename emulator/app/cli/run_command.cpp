@@ -98,7 +98,8 @@ void serve(const CommandLine& line, bool link_given) {
   }
   attach_physics_option(config, line.physics, line.robot_dirs, library);
   attach_hand_options(config, line);
-  apply_bus_options(config, library, line.baud, line.protocol);
+  apply_bus_options(config, library, line.baud,
+                    line.protocol ? wire::protocol_from_spelling(*line.protocol) : std::nullopt);
   Emulator emulator(library, config, options);
   emulator.run(std::cout);
 }

@@ -378,11 +378,13 @@ class ConfigParser {
       }
     }
     if (value.contains("protocol")) {
-      const auto protocol =
-          integer(value["protocol"], at + "/protocol", wire::lowest_protocol_number(),
-                  wire::highest_protocol_number());
+      const auto protocol = protocol_of_json(value["protocol"]);
+      if (!protocol) {
+        fail(at + "/protocol", value["protocol"].dump() +
+                                   " is no protocol (known: " + wire::protocol_json_list() + ")");
+      }
       try {
-        if (auto item = protocol_item(*spec, static_cast<int>(protocol))) {
+        if (auto item = protocol_item(*spec, *protocol, library_)) {
           items.push_back(std::move(*item));
         }
       } catch (const std::invalid_argument& e) {
@@ -409,8 +411,13 @@ class ConfigParser {
     }
     std::vector<ServoConfig> out;
     out.reserve(ids.size());
-    for (const std::uint8_t id : ids) {
-      out.push_back({name, id, items});
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      out.push_back({name, ids[i], items});
+      try {
+        check_servo_id(out.back(), *spec);
+      } catch (const std::invalid_argument& e) {
+        fail(value.contains("id") ? at + "/id" : at + "/ids/" + std::to_string(i), e.what());
+      }
     }
     return out;
   }
@@ -488,16 +495,71 @@ std::int64_t baud_rate_item_value(const model::ModelSpec& spec, std::uint32_t bp
 }
 
 std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::ModelSpec& spec,
-                                                                  int protocol) {
+                                                                  wire::Protocol protocol,
+                                                                  const ModelLibrary& library) {
+  if (!spec.speaks(protocol)) {
+    throw std::invalid_argument(spec.name + " cannot speak " +
+                                std::string(wire::protocol_title(protocol)) +
+                                "; the models that can: " + models_speaking(protocol, library));
+  }
   for (const char* key : {"protocol_type", "protocol_version"}) {
     if (spec.find(key) != nullptr) {
-      return std::pair<std::string, std::int64_t>{key, protocol};
+      return std::pair<std::string, std::int64_t>{key, wire::traits(protocol).type_value};
     }
   }
-  if (static_cast<int>(spec.protocols.front()) != protocol) {
-    throw std::invalid_argument(spec.name + " cannot speak protocol " + std::to_string(protocol));
+  return std::nullopt;
+}
+
+std::string models_speaking(wire::Protocol protocol, const ModelLibrary& library) {
+  // A dozen names say which kind of model it takes; the full list is one command away.
+  constexpr std::size_t kListed = 12;
+  ModelFilter filter;
+  filter.protocol = protocol;
+  const auto models = library.select(filter);
+  if (models.empty()) {
+    return "none in the model library";
+  }
+  std::string out;
+  for (std::size_t i = 0; i < models.size() && i < kListed; ++i) {
+    out += (out.empty() ? "" : ", ") + models[i]->name;
+  }
+  if (models.size() > kListed) {
+    out += " and " + std::to_string(models.size() - kListed) + " more (dxlemu models --protocol " +
+           std::string(wire::traits(protocol).spelling) + ")";
+  }
+  return out;
+}
+
+std::optional<wire::Protocol> protocol_of_json(const nlohmann::json& value) {
+  // DYNAMIXEL's protocols as their numbers, the others by their spelling (as model files).
+  if (value.is_string()) {
+    const auto p = wire::protocol_from_spelling(value.get<std::string>());
+    return p && wire::protocol_number(*p) == 0 ? p : std::nullopt;
+  }
+  if (value.is_number_integer()) {
+    return wire::protocol_from_number(value.get<std::int64_t>());
   }
   return std::nullopt;
+}
+
+wire::Protocol configured_protocol(const ServoConfig& servo, const model::ModelSpec& spec) {
+  std::optional<wire::Protocol> out;
+  for (const auto& [key, value] : servo.items) {
+    if (key == "protocol_type" || key == "protocol_version") {
+      out = wire::protocol_from_type_value(value);
+    }
+  }
+  return out.value_or(spec.protocols.front());
+}
+
+void check_servo_id(const ServoConfig& servo, const model::ModelSpec& spec) {
+  const wire::ProtocolTraits& row = wire::traits(configured_protocol(servo, spec));
+  if (servo.id < row.min_unicast_id || servo.id > row.max_unicast_id) {
+    throw std::invalid_argument("servo " + servo.model + ":" + std::to_string(servo.id) +
+                                " speaks " + std::string(row.title) + ", whose IDs are " +
+                                std::to_string(row.min_unicast_id) + " ~ " +
+                                std::to_string(row.max_unicast_id));
+  }
 }
 
 std::optional<std::size_t> other_maker_servo(const PortConfig& port, const ModelLibrary& library) {

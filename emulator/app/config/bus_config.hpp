@@ -12,6 +12,7 @@
 #include "app/config/model_library.hpp"
 #include "app/config/physics_config.hpp"
 #include "model/spec/model_error.hpp"
+#include "wire/protocol.hpp"
 
 namespace dxlemu::app {
 
@@ -149,11 +150,31 @@ BusConfig read_config(const std::filesystem::path& path, const ModelLibrary& lib
 /// the rates the model offers.
 std::int64_t baud_rate_item_value(const model::ModelSpec& spec, std::uint32_t bps);
 
-/// The item override that makes `spec` speak `protocol` (1 or 2): Protocol Type, or Protocol
-/// Version on MX-64/106(2.0); nothing for a model that only speaks `protocol`. Throws
-/// std::invalid_argument for a model that cannot speak it.
+/// The item override that makes `spec` speak `protocol`: Protocol Type (or Protocol Version on
+/// MX-64/106(2.0)) set to the protocol's Protocol Type value (1, 2; Modbus RTU 10); nothing for a
+/// model without such an item that speaks `protocol`. Throws std::invalid_argument for a model
+/// whose file does not list `protocol`, naming the models of `library` that can speak it.
 std::optional<std::pair<std::string, std::int64_t>> protocol_item(const model::ModelSpec& spec,
-                                                                  int protocol);
+                                                                  wire::Protocol protocol,
+                                                                  const ModelLibrary& library);
+
+/// The models of `library` that can speak `protocol`, for a refusal: "ph42-020-s300-r, ..."; at
+/// most a dozen names, then how many more (`dxlemu models --protocol` lists them all).
+std::string models_speaking(wire::Protocol protocol, const ModelLibrary& library);
+
+/// The protocol a `"protocol"` member of a config or robot profile names: 1 or 2 (DYNAMIXEL's
+/// numbers), or the spelling of a protocol without a number ("feetech", "modbus"); nullopt for
+/// anything else.
+std::optional<wire::Protocol> protocol_of_json(const nlohmann::json& value);
+
+/// The protocol `servo` speaks once its item overrides applied: the last Protocol Type (or
+/// Protocol Version) override's, else the model's factory protocol (the first it lists).
+wire::Protocol configured_protocol(const ServoConfig& servo, const model::ModelSpec& spec);
+
+/// Checks `servo`'s ID against the IDs of the protocol it speaks (configured_protocol): Modbus
+/// RTU takes 1 ~ 247 (the slave addresses), DYNAMIXEL 0 ~ 252. Throws std::invalid_argument
+/// naming the servo, the protocol and the range.
+void check_servo_id(const ServoConfig& servo, const model::ModelSpec& spec);
 
 /// Checks `servo` against `library`: the model exists and every item override names a writable
 /// item of it and lies in that item's range. Throws std::invalid_argument with the reason (for

@@ -43,7 +43,7 @@ std::vector<ServoConfig> parse_servo_option(const std::string& text) {
 }
 
 void apply_bus_options(BusConfig& config, const ModelLibrary& library,
-                       std::optional<std::uint32_t> baud, std::optional<int> protocol) {
+                       std::optional<std::uint32_t> baud, std::optional<wire::Protocol> protocol) {
   for (auto& port : config.ports) {
     for (auto& servo : port.servos) {
       const auto spec = library.find(servo.model);
@@ -55,13 +55,23 @@ void apply_bus_options(BusConfig& config, const ModelLibrary& library,
           servo.items.emplace_back("baud_rate", baud_rate_item_value(*spec, *baud));
         }
         if (protocol) {
-          if (auto item = protocol_item(*spec, *protocol)) {
+          if (auto item = protocol_item(*spec, *protocol, library)) {
             servo.items.push_back(std::move(*item));
           }
         }
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string(baud ? "--baud" : "--protocol") +
                                     (baud && protocol ? "/--protocol" : "") + ": " + e.what());
+      }
+      if (protocol) {
+        // The IDs of a port given with --servo or a config may not all be IDs of the protocol
+        // asked for (Modbus RTU: 1 ~ 247).
+        try {
+          check_servo_id(servo, *spec);
+        } catch (const std::invalid_argument& e) {
+          throw std::invalid_argument(
+              "--protocol " + std::string(wire::traits(*protocol).spelling) + ": " + e.what());
+        }
       }
     }
   }

@@ -19,8 +19,9 @@ std::vector<ServoConfig> parse_servo_option(const std::string& text);
 /// Applies `dxlemu run`'s --baud and --protocol to every servo of `config`, after its own item
 /// overrides (so they win). A servo whose model `library` does not know is left for check_servo()
 /// to name. Throws std::invalid_argument naming the options when a model has no such baud rate or
-/// protocol.
+/// cannot speak the protocol (naming the models that can), or a servo's ID is not one of the
+/// protocol's (Modbus RTU: 1 ~ 247).
 void apply_bus_options(BusConfig& config, const ModelLibrary& library,
-                       std::optional<std::uint32_t> baud, std::optional<int> protocol);
+                       std::optional<std::uint32_t> baud, std::optional<wire::Protocol> protocol);
 
 }  // namespace dxlemu::app

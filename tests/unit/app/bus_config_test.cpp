@@ -132,9 +132,13 @@ TEST_CASE("Every mistake in a config is refused naming the file, the JSON pointe
       {one_port(R"({"model": "ax-12a", "id": 1, "baud": 4500000})"),
        "bus.json: /ports/0/servos/0/baud: ax-12a cannot do 4500000 bps (it offers 1000000"},
       {one_port(R"({"model": "xl-320", "id": 1, "protocol": 1})"),
-       "bus.json: /ports/0/servos/0/protocol: xl-320 cannot speak protocol 1"},
+       "bus.json: /ports/0/servos/0/protocol: xl-320 cannot speak Protocol 1.0; the models that "
+       "can: "},
       {one_port(R"({"model": "xm430-w350", "id": 1, "protocol": 3})"),
-       "bus.json: /ports/0/servos/0/protocol: 3 is outside 1 ~ 2"},
+       "bus.json: /ports/0/servos/0/protocol: 3 is no protocol (known: 1, 2, \"feetech\", "
+       "\"modbus\")"},
+      {one_port(R"({"model": "xm430-w350", "id": 1, "protocol": "2"})"),
+       "bus.json: /ports/0/servos/0/protocol: \"2\" is no protocol"},
       {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"speed": 3}})"),
        "bus.json: /ports/0/servos/0/items/speed: xm430-w350 has no item \"speed\""},
       {one_port(R"({"model": "xm430-w350", "id": 1, "items": {"a/b~": 3}})"),
@@ -233,8 +237,9 @@ TEST_CASE("A port of FEETECH servos parses, one mixing makers is refused",
                             {"model": "sts3215", "id": 3})")) ==
         "bus.json: /ports/0/servos/1: sts3215 is a FEETECH model, but xm430-w350 on the same "
         "port is ROBOTIS: a port speaks one maker's protocol (put them on separate ports)");
-  CHECK(config_refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")) ==
-        "bus.json: /ports/0/servos/0/protocol: sts3215 cannot speak protocol 1");
+  CHECK_THAT(config_refusal(one_port(R"({"model": "sts3215", "id": 1, "protocol": 1})")),
+             Catch::StartsWith("bus.json: /ports/0/servos/0/protocol: sts3215 cannot speak "
+                               "Protocol 1.0; the models that can: "));
 }
 
 namespace bus_config_joints_test {

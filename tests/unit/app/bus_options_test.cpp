@@ -59,7 +59,7 @@ TEST_CASE("A malformed --servo is refused naming the option", "[app][config]") {
 
 TEST_CASE("The --baud and --protocol items come after a servo's own overrides", "[app][config]") {
   app::BusConfig config = one_port({{"xm430-w350", 1, {{"return_delay_time", 0}}}});
-  app::apply_bus_options(config, test::shipped_models(), 1000000, 1);
+  app::apply_bus_options(config, test::shipped_models(), 1000000, wire::Protocol::V1);
   // Baud Rate 3 is 1 Mbps and Protocol Type 1 is DYNAMIXEL 1.0 in the XM430's model file.
   CHECK(config.ports[0].servos[0].items ==
         Items{{"return_delay_time", 0}, {"baud_rate", 3}, {"protocol_type", 1}});
@@ -77,15 +77,17 @@ TEST_CASE("A --baud or --protocol a model cannot do is refused naming the option
   app::BusConfig config = one_port({{"xm430-w350", 1, {}}});
   CHECK_THROWS_WITH(app::apply_bus_options(config, test::shipped_models(), 1234, std::nullopt),
                     Catch::StartsWith("--baud: xm430-w350 cannot do 1234 bps"));
-  CHECK_THROWS_WITH(app::apply_bus_options(config, test::shipped_models(), 1234, 2),
-                    Catch::StartsWith("--baud/--protocol: xm430-w350 cannot do 1234 bps"));
+  CHECK_THROWS_WITH(
+      app::apply_bus_options(config, test::shipped_models(), 1234, wire::Protocol::V2),
+      Catch::StartsWith("--baud/--protocol: xm430-w350 cannot do 1234 bps"));
   app::BusConfig ax = one_port({{"ax-12a", 1, {}}});
-  CHECK_THROWS_WITH(app::apply_bus_options(ax, test::shipped_models(), std::nullopt, 2),
-                    "--protocol: ax-12a cannot speak protocol 2");
+  CHECK_THROWS_WITH(
+      app::apply_bus_options(ax, test::shipped_models(), std::nullopt, wire::Protocol::V2),
+      Catch::StartsWith("--protocol: ax-12a cannot speak Protocol 2.0; the models that can: "));
 }
 
 TEST_CASE("A servo of an unknown model is left for check_servo to name", "[app][config]") {
   app::BusConfig config = one_port({{"no-such-servo", 1, {}}});
-  app::apply_bus_options(config, test::shipped_models(), 1000000, 2);
+  app::apply_bus_options(config, test::shipped_models(), 1000000, wire::Protocol::V2);
   CHECK(config.ports[0].servos[0].items.empty());
 }

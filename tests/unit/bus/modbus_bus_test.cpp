@@ -103,7 +103,7 @@ TEST_CASE("Modbus exceptions: read-only 02, part of an item 02, out of range 03,
         wire::encode_modbus_frame(1, 0x08, hex("00 00 12 34")));
 }
 
-TEST_CASE("Items the page prints N/A refuse; a register half N/A serves its other byte",
+TEST_CASE("Items the page prints N/A refuse, and a register half N/A serves its other byte",
           "[bus][modbus]") {
   ModbusRig rig;
   // 40259 holds Status Return Level (516) and Registered Instruction (517): both N/A.

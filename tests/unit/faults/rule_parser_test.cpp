@@ -47,6 +47,8 @@ TEST_CASE("Every action parses and rule_json reads back as the same rule", "[fau
       R"({"action":"slow","us":3000})",
       R"({"action":"eeprom_busy","us_per_byte":4000})",
       R"({"action":"eeprom_busy"})",
+      R"({"action":"modbus_exception","match":{"instruction":"write_single_register"}})",
+      R"({"action":"modbus_exception","code":2,"count":1})",
   };
   std::set<std::string> actions;
   for (const std::string& text : rules) {

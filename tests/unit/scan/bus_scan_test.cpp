@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <variant>
 
+#include "app/config/bus_config.hpp"
 #include "app/config/clone_config.hpp"
 #include "bus/bus_rig.hpp"
 #include "scan/bus_scan.hpp"
@@ -36,6 +37,7 @@ class RigScanLink final : public scan::ScanLink {
     for (std::size_t i = before; i < deliveries.size(); ++i) {
       reader.feed(deliveries[i].bytes, deliveries[i].at, replies);
     }
+    reader.end_of_write(replies);  // a Modbus response ends at the silence after it
     if (replies.size() > max_replies) {
       replies.resize(max_replies);
     }
@@ -150,6 +152,65 @@ TEST_CASE("A servo of a model the library lacks is reported and left out of the 
     return line.find("model number 4242 is not in the model library") != std::string::npos;
   }));
   CHECK(app::clone_config(found, "p", "dxl0", "")["ports"][0]["servos"].empty());
+}
+
+TEST_CASE("A scan asked for Modbus RTU reads each address's Model Number, then its EEPROM",
+          "[app][clone][modbus]") {
+  test::BusRig rig;
+  model::Servo& ph = rig.add("ph42-020-s300-r", 5);
+  ph.table().set("protocol_type", wire::traits(wire::Protocol::Modbus).type_value);
+  ph.table().set("homing_offset", -300);
+  ph.table().set("return_delay_time", 10);  // not in the Modbus map: cannot be read
+  ph.commit_deferred();
+  REQUIRE(ph.protocol() == wire::Protocol::Modbus);
+  RigScanLink link(rig);
+  scan::ScanOptions options = narrow({57'600});
+  options.protocols = {wire::Protocol::V2, wire::Protocol::Modbus};
+  std::vector<std::string> lines;
+  const auto found = scan::scan_bus(link, test::shipped_models(), options,
+                                    [&](const std::string& line) { lines.push_back(line); });
+  // 2.0's broadcast Ping finds nobody: the servo speaks Modbus.
+  REQUIRE(found.size() == 1);
+  CHECK(found[0].protocol == wire::Protocol::Modbus);
+  CHECK(found[0].id == 5);
+  CHECK(found[0].model_number == ph.spec().model_number);
+  CHECK(found[0].firmware == ph.table().get("firmware_version"));
+  REQUIRE(found[0].spec);
+  CHECK(found[0].spec->name == "ph42-020-s300-r");
+  CHECK(eeprom(found[0], "homing_offset") == -300);
+  CHECK(eeprom(found[0], "protocol_type") == 10);
+  CHECK(std::none_of(found[0].eeprom.begin(), found[0].eeprom.end(),
+                     [](const auto& item) { return item.first == "return_delay_time"; }));
+  CHECK(link.only_reads());
+  CHECK(std::any_of(lines.begin(), lines.end(), [](const std::string& line) {
+    return line.find("not in the Modbus RTU map") != std::string::npos;
+  }));
+  // IDs 1 ~ 12 asked at one rate (0 is Modbus's broadcast address), the 2.0 Ping, the reads.
+  CHECK(link.sent() > 13);
+
+  // The config it makes serves the servo on Modbus again.
+  const auto config = app::clone_config(found, "/dev/ttyUSB0", "arm", "");
+  const auto& servo = config["ports"][0]["servos"][0];
+  CHECK(servo["items"]["protocol_type"] == 10);
+  CHECK(servo["items"]["homing_offset"] == -300);
+  const app::BusConfig parsed =
+      app::parse_config(config.dump(), "clone.json", test::shipped_models());
+  const auto spec = test::shipped_models().find("ph42-020-s300-r");
+  CHECK(app::configured_protocol(parsed.ports[0].servos[0], *spec) == wire::Protocol::Modbus);
+}
+
+TEST_CASE("The default scan leaves Modbus RTU out", "[app][clone][modbus]") {
+  CHECK(scan::ScanOptions{}.protocols == scan::default_scan_protocols());
+  const auto protocols = scan::default_scan_protocols();
+  CHECK(std::find(protocols.begin(), protocols.end(), wire::Protocol::Modbus) == protocols.end());
+  CHECK(protocols.size() == wire::all_protocols().size() - 1);
+  test::BusRig rig;
+  model::Servo& ph = rig.add("ph42-020-s300-r", 5);
+  ph.table().set("protocol_type", wire::traits(wire::Protocol::Modbus).type_value);
+  ph.commit_deferred();
+  RigScanLink link(rig);
+  CHECK(scan::scan_bus(link, test::shipped_models(), narrow({57'600}), [](const std::string&) {
+        }).empty());
 }
 
 }  // namespace dxlemu

@@ -93,7 +93,7 @@ TEST_CASE("A gap over t1.5 inside a frame makes it incomplete, and it is discard
   CHECK(errors[0].id == 1);
 }
 
-TEST_CASE("Two frames separated by t3.5 are two; closer, they are one with a bad CRC",
+TEST_CASE("Two frames separated by t3.5 are two, and closer they are one with a bad CRC",
           "[wire][modbus]") {
   Line apart;
   apart.write(kRead, sim::SimTime{});
