@@ -210,8 +210,16 @@ void Bus::handle(const std::vector<wire::FramerEvent>& events) {
   for (const wire::FramerEvent& event : events) {
     const auto* failure = std::get_if<wire::FramingError>(&event);
     // A packet written right behind another (in one write) is on the line while the replies to
-    // the first are due: the same collision as a packet sent without waiting.
-    if (failure == nullptr || failure->kind == wire::FramingErrorKind::BadCheck) {
+    // the first are due: the same collision as a packet sent without waiting. A frame that ends
+    // at a silence (Modbus RTU) is never right behind another in one write, and is known only
+    // once the silence after it has passed: what its bytes collided with was dropped when they
+    // came (receive). The replies due then answer packets in those same bytes (a 2.0 status
+    // to a packet the Modbus servos reject as a bad CRC) and stand.
+    const wire::Protocol protocol =
+        failure != nullptr ? failure->protocol : std::get<wire::Frame>(event).protocol;
+    const bool after_silence = wire::traits(protocol).frame.delimiting == wire::Delimiting::Silence;
+    if ((failure == nullptr || failure->kind == wire::FramingErrorKind::BadCheck) &&
+        !after_silence) {
       drop_pending_replies();
     }
     if (observer_.heard &&

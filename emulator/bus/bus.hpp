@@ -143,7 +143,9 @@ class Bus {
   void hear(Packet& packet);
   /// The IDs a packet is for, as the instruction hook matches them.
   static std::vector<std::uint8_t> fault_ids(const Packet& packet);
-  /// The listeners whose ID is `id`.
+  /// True when a unicast of `protocol` can be for `id` (its row's unicast IDs).
+  static bool unicast_reaches(wire::Protocol protocol, std::uint8_t id);
+  /// The listeners whose ID is `id`, none when `id` is no unicast ID of the packet's protocol.
   static std::vector<const Listener*> addressed(const Packet& packet, std::uint8_t id);
   void on_frame(const wire::Frame& frame);
   void on_bad_check(const wire::FramingError& error);

@@ -88,8 +88,18 @@ void Bus::hear(Packet& packet) {
   packet.listening = std::move(hearing);
 }
 
+bool Bus::unicast_reaches(wire::Protocol protocol, std::uint8_t id) {
+  // Modbus RTU: a servo whose ID is 0 or over 247 is reached by broadcast alone while it speaks
+  // Modbus (docs/modbus.md "Addresses"); 248 ~ 255 are no server's address.
+  const wire::ProtocolTraits& t = wire::traits(protocol);
+  return id >= t.min_unicast_id && id <= t.max_unicast_id;
+}
+
 std::vector<const Bus::Listener*> Bus::addressed(const Packet& packet, std::uint8_t id) {
   std::vector<const Listener*> out;
+  if (!unicast_reaches(packet.heard.protocol, id)) {
+    return out;
+  }
   for (const Listener& l : packet.listening) {
     if (l.node->servo->id() == id) {
       out.push_back(&l);

@@ -17,12 +17,13 @@ void Bus::single(const Packet& packet) {
   const wire::InstructionPacket& instruction = *packet.heard.decoded;
   const SimTime end = packet.heard.end;
   const bool broadcast = wire::is_broadcast(instruction.protocol, instruction.id);
+  const bool reachable = unicast_reaches(instruction.protocol, instruction.id);
   std::vector<std::pair<const Listener*, model::Addressing>> targets;
   for (const Listener& l : packet.listening) {
     const model::Servo& servo = *l.node->servo;
     if (broadcast) {
       targets.emplace_back(&l, model::Addressing::Broadcast);
-    } else if (servo.id() == instruction.id) {
+    } else if (servo.id() == instruction.id && reachable) {
       targets.emplace_back(&l, model::Addressing::Unicast);
     } else if (servo.secondary_id() == instruction.id) {
       // The ID takes priority, but the group of that Secondary ID executes too, silently.

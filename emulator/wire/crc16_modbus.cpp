@@ -9,7 +9,7 @@ constexpr std::uint16_t kReflectedPolynomial = 0xA001;
 constexpr std::uint16_t kInitial = 0xFFFF;
 
 // Byte-wise table of the reflected polynomial, derived at compile time.
-constexpr std::array<std::uint16_t, 256> make_table() {
+constexpr std::array<std::uint16_t, 256> make_modbus_table() {
   std::array<std::uint16_t, 256> table{};
   for (unsigned i = 0; i < table.size(); ++i) {
     auto crc = static_cast<std::uint16_t>(i);
@@ -25,14 +25,14 @@ constexpr std::array<std::uint16_t, 256> make_table() {
   return table;
 }
 
-constexpr std::array<std::uint16_t, 256> kTable = make_table();
+constexpr std::array<std::uint16_t, 256> kModbusTable = make_modbus_table();
 
 }  // namespace
 
 std::uint16_t crc16_modbus(std::span<const std::uint8_t> bytes) {
   std::uint16_t crc = kInitial;
   for (const std::uint8_t b : bytes) {
-    crc = static_cast<std::uint16_t>((crc >> 8) ^ kTable[(crc ^ b) & 0xFFU]);
+    crc = static_cast<std::uint16_t>((crc >> 8) ^ kModbusTable[(crc ^ b) & 0xFFU]);
   }
   return crc;
 }

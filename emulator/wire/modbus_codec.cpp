@@ -183,11 +183,11 @@ Decoded decode_diagnostics(const Request& r) {
   return Echo{{r.frame.params.begin() + 2, r.frame.params.end()}};
 }
 
-using DecodeFn = Decoded (*)(const Request&);
+using ModbusDecodeFn = Decoded (*)(const Request&);
 
 struct Entry {
   ModbusFunction code;
-  DecodeFn decode;
+  ModbusDecodeFn decode;
 };
 
 constexpr std::array kModbusDecoders = {

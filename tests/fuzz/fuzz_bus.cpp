@@ -128,52 +128,6 @@ std::unique_ptr<model::Servo> make_servo(const ServoSetup& setup) {
   return servo;
 }
 
-// Checks that every item of every servo holds a value its model allows (model files' min/max and
-// values) at the moment it takes it: after each packet the bus hears (ReplyChecker's hook), after
-// each chunk and at the end. An item is decoded and checked only when its bytes changed since the
-// last check, which also keeps a value the servo accepted earlier from being judged again by
-// rules that changed since: Goal Position keeps a multi-turn goal when the Operating Mode is
-// switched away from Extended Position (the e-Manual's list of what a mode switch resets does not
-// name it; docs/motion.md), and such a goal is out of range only for the new mode.
-class RangeChecker {
- public:
-  explicit RangeChecker(const bus::Bus& bus) : bus_(bus), seen_(bus.servos().size()) {}
-
-  FUZZ_NO_COVERAGE void check() {
-    for (std::size_t s = 0; s < seen_.size(); ++s) {
-      check_servo(*bus_.servos().at(s), seen_[s]);
-    }
-  }
-
- private:
-  FUZZ_NO_COVERAGE void check_servo(const model::Servo& servo, std::vector<std::uint8_t>& seen) {
-    // Raw pointers, not operator[]: the containers' operators are instrumented code, and calls
-    // to them here were a tenth of the target's time.
-    const std::span<const std::uint8_t> bytes = servo.table().bytes();
-    const std::uint8_t* now = bytes.data();
-    const std::uint8_t* before = seen.data();
-    const std::vector<model::ItemSpec>& items = servo.spec().items;
-    const model::ItemSpec* item = items.data();
-    const bool first = seen.empty();
-    for (std::size_t i = 0; i < items.size(); ++i) {
-      bool differs = first;
-      for (std::size_t at = item[i].address; !differs && at < item[i].end(); ++at) {
-        differs = now[at] != before[at];
-      }
-      if (differs) {
-        const std::int64_t value = servo.table().get(i);
-        FUZZ_REQUIRE_MSG(item_value_allowed(servo, i, value), "%s ID %u: %s = %lld",
-                         servo.spec().name.c_str(), unsigned{servo.id()}, item[i].key.c_str(),
-                         static_cast<long long>(value));
-      }
-    }
-    seen.assign(bytes.begin(), bytes.end());
-  }
-
-  const bus::Bus& bus_;
-  std::vector<std::vector<std::uint8_t>> seen_;  ///< per servo: its bytes at the last check
-};
-
 }  // namespace
 }  // namespace dxlemu::fuzz
 

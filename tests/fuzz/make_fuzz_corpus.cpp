@@ -1,11 +1,14 @@
 // Writes the seed corpus of one fuzz target: every golden packet of the protocol as its own input,
 // plus a few combined inputs that start the fuzzer off with several packets per stream, garbage
 // between them, split chunks and inter-byte timeouts. The corpus is derived at build time from
-// tests/data/golden_packets.txt (DYNAMIXEL) or FEETECH's example frames (feetech_examples.cpp) and
-// never committed.
+// tests/data/golden_packets.txt (DYNAMIXEL), FEETECH's example frames (feetech_examples.cpp) or
+// Modbus RTU's frames (modbus_seed_frames.cpp) and never committed. Modbus RTU frames end at a
+// silence rather than a LENGTH, so its combined seeds put silences between frames (chunk gaps,
+// fuzz_wire_modbus.cpp) and cut frames at t1.5 and t3.5.
 //
-// Usage: make_fuzz_corpus <1|2|feetech> <golden_packets.txt> <output directory>
+// Usage: make_fuzz_corpus <1|2|feetech|modbus> <golden_packets.txt> <output directory>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <exception>
@@ -22,6 +25,7 @@
 #include "feetech_examples.hpp"
 #include "fuzz_input.hpp"
 #include "golden_file.hpp"
+#include "modbus_seed_frames.hpp"
 
 namespace {
 
@@ -50,9 +54,9 @@ constexpr std::array<Chunk, 6> kTimeoutChunks = {{
 }};
 
 void write_seed(const fs::path& dir, const std::string& name, std::span<const Chunk> chunks,
-                bool repair_checks, std::span<const std::uint8_t> stream) {
+                bool repair_checks, std::span<const std::uint8_t> stream, std::uint8_t spare = 0) {
   const std::vector<std::uint8_t> input =
-      dxlemu::fuzz::build_fuzz_input(chunks, repair_checks, stream);
+      dxlemu::fuzz::build_fuzz_input(chunks, repair_checks, stream, spare);
   std::ofstream out(dir / name, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(input.data()),
             static_cast<std::streamsize>(input.size()));
@@ -126,17 +130,114 @@ void make_corpus(const std::vector<Seed>& seeds, const fs::path& dir) {
   write_seed(dir, "all_packets_repaired", {}, true, broken_checks);
 }
 
+// Modbus RTU: every frame alone, then streams of them between silences (one chunk per frame, at
+// most 15 a seed: the stream left over after the chunks continues the last one), at every line
+// rate, ended by the client's writes, with noise between them, with broken CRCs to repair, and
+// one frame cut at and just past t1.5 and t3.5. Gap values: fuzz_wire_modbus.cpp.
+constexpr std::uint8_t kModbusT15 = 64;        // exactly t1.5: the frame goes on
+constexpr std::uint8_t kModbusOverT15 = 65;    // just over: the frame is broken
+constexpr std::uint8_t kModbusUnderT35 = 127;  // broken, not yet ended
+constexpr std::uint8_t kModbusT35 = 128;       // exactly t3.5: the frame ends
+constexpr std::uint8_t kModbusOverT35 = 129;
+constexpr std::uint8_t kModbusRates = 8;  // fuzz_wire_modbus.cpp's kRates
+constexpr std::size_t kMaxChunkBytes = 255;
+
+using Frames = std::vector<std::vector<std::uint8_t>>;
+
+// Writes `frames` as seeds of up to 15 frames each, one chunk per frame with `gap` before every
+// frame but the first (frames longer than a chunk take two, the second with no gap).
+void write_modbus_streams(const fs::path& dir, const std::string& name, const Frames& frames,
+                          std::uint8_t gap, std::uint8_t rate, bool repair) {
+  std::size_t part = 0;
+  for (std::size_t first = 0; first < frames.size(); ++part) {
+    std::vector<Chunk> chunks;
+    std::vector<std::uint8_t> stream;
+    std::size_t i = first;
+    for (; i < frames.size(); ++i) {
+      const std::size_t pieces = frames[i].size() > kMaxChunkBytes ? 2 : 1;
+      if (chunks.size() + pieces > dxlemu::fuzz::kMaxChunks) {
+        break;
+      }
+      const std::size_t head = std::min(frames[i].size(), kMaxChunkBytes);
+      chunks.push_back(Chunk{static_cast<std::uint8_t>(head), i == first ? std::uint8_t{0} : gap});
+      if (pieces == 2) {
+        chunks.push_back(Chunk{static_cast<std::uint8_t>(frames[i].size() - head), 0});
+      }
+      append(stream, frames[i]);
+    }
+    write_seed(dir, name + "." + std::to_string(part), chunks, repair, stream, rate);
+    first = i;
+  }
+}
+
+void make_modbus_corpus(const fs::path& dir) {
+  fs::create_directories(dir);
+  Frames frames;
+  for (const auto& seed : dxlemu::test::modbus_seed_frames()) {
+    write_seed(dir, "modbus." + std::string(seed.name), {}, false, seed.bytes);
+    frames.push_back(seed.bytes);
+  }
+  std::vector<std::uint8_t> all;
+  for (const auto& f : frames) {
+    append(all, f);
+  }
+  // No silence at all: one overlong frame.
+  write_seed(dir, "all_frames", {}, false, all);
+  for (std::uint8_t rate = 0; rate < kModbusRates; ++rate) {
+    write_modbus_streams(dir, "silences.rate" + std::to_string(rate), frames, kModbusT35, rate,
+                         false);
+  }
+  write_modbus_streams(dir, "end_of_write", frames, dxlemu::fuzz::kGapEndOfWrite, 0, false);
+  write_modbus_streams(dir, "to_deadline", frames, dxlemu::fuzz::kGapToDeadline, 0, false);
+  write_modbus_streams(dir, "over_t35", frames, kModbusOverT35, 1, false);  // 9600 bit/s
+
+  // Noise between frames: a lone byte and three bytes (too short: Truncated).
+  Frames noisy;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    noisy.push_back(i % 2 == 0 ? std::vector<std::uint8_t>{0x00}
+                               : std::vector<std::uint8_t>{0x01, 0x03, 0xFF});
+    noisy.push_back(frames[i]);
+  }
+  write_modbus_streams(dir, "noise", noisy, kModbusT35, 0, false);
+
+  // Broken CRCs, for the repair flag to fix.
+  Frames broken = frames;
+  for (auto& f : broken) {
+    f.back() ^= 0xFFU;
+  }
+  write_modbus_streams(dir, "repaired", broken, kModbusT35, 0, true);
+
+  // One request cut into pieces with each kind of gap between them, at 57600 and at 9600 bit/s
+  // (fixed and character-time silences).
+  const std::vector<std::uint8_t>& request = frames.at(0);
+  for (std::uint8_t rate : {std::uint8_t{0}, std::uint8_t{1}}) {
+    std::vector<Chunk> cuts;
+    std::vector<std::uint8_t> stream;
+    for (const std::uint8_t gap :
+         {kModbusT15, kModbusOverT15, kModbusUnderT35, kModbusT35, kModbusOverT35,
+          dxlemu::fuzz::kGapToDeadline, dxlemu::fuzz::kGapEndOfWrite}) {
+      cuts.push_back(Chunk{3, cuts.empty() ? std::uint8_t{0} : kModbusT35});
+      cuts.push_back(Chunk{static_cast<std::uint8_t>(request.size() - 3), gap});
+      append(stream, request);
+    }
+    write_seed(dir, "cut_gaps.rate" + std::to_string(rate), cuts, false, stream, rate);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string_view protocol = argc == 4 ? argv[1] : "";
-  if (protocol != "1" && protocol != "2" && protocol != "feetech") {
-    std::cerr << "usage: make_fuzz_corpus <1|2|feetech> <golden_packets.txt> <output directory>\n";
+  if (protocol != "1" && protocol != "2" && protocol != "feetech" && protocol != "modbus") {
+    std::cerr << "usage: make_fuzz_corpus <1|2|feetech|modbus> <golden_packets.txt> <output "
+                 "directory>\n";
     return 2;
   }
   try {
     if (protocol == "feetech") {
       make_corpus(feetech_seeds(), argv[3]);
+    } else if (protocol == "modbus") {
+      make_modbus_corpus(argv[3]);
     } else {
       const auto p = protocol == "1" ? dxlemu::wire::Protocol::V1 : dxlemu::wire::Protocol::V2;
       make_corpus(golden_seeds(p, argv[2]), argv[3]);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "bus_rig.hpp"
+#include "wire/modbus_codec.hpp"
 
 using namespace dxlemu;
 using test::BusRig;
@@ -75,4 +76,53 @@ TEST_CASE("A FEETECH position calibration the Position offset cannot reach chang
   rig.send({Protocol::Feetech, 1, wire::PositionCalibration{1024}}, kMbps);
   rig.run();
   CHECK(servo.table().get("present_position") == 1024);
+}
+
+TEST_CASE("A 2.0 status stands when the Modbus servos reject the same bytes at the silence",
+          "[bus][fuzz][modbus]") {
+  BusRig rig;
+  rig.add("xm430-w350", 1);
+  model::Servo& modbus = rig.add("ph54-200-s500-r", 2);
+  modbus.table().set("protocol_type", wire::traits(Protocol::Modbus).type_value);
+  modbus.commit_deferred();
+  REQUIRE(modbus.protocol() == Protocol::Modbus);
+  // The Modbus servo's framer takes the Ping's bytes for a frame with a bad CRC once t3.5 has
+  // passed (1,750 us), before the status (Return Delay Time 500 us, then 14 bytes at 57600 bps)
+  // is out: that rejection cancelled the status as if new bytes had come (found by
+  // fuzz_bus_modbus, a servo switched to 2.0 among servos speaking Modbus).
+  rig.send({Protocol::V2, 1, wire::Ping{}});
+  rig.run();
+  REQUIRE(rig.link.deliveries().size() == 1);
+  CHECK(test::status_text(rig.link.deliveries()[0].bytes).rfind("id=1 error=0x00 params=", 0) == 0);
+  CHECK(rig.bus.stats().collisions == 0);
+  CHECK(rig.bus.stats().bad_checks == 1);
+}
+
+TEST_CASE("A servo whose ID is over 247 is reached over Modbus by broadcast alone",
+          "[bus][fuzz][modbus]") {
+  BusRig rig;
+  model::Servo& servo = rig.add("ph54-200-s500-r", 1);
+  // ID 250, written over 2.0, then Protocol Type 10 (found by fuzz_bus_modbus: the servo
+  // answered Modbus requests to address 250, which docs/modbus.md "Addresses" rules out).
+  servo.table().set("id", 250);
+  servo.table().set("protocol_type", wire::traits(Protocol::Modbus).type_value);
+  servo.commit_deferred();
+  REQUIRE(servo.protocol() == Protocol::Modbus);
+  REQUIRE(servo.id() == 250);
+  rig.bus.receive(
+      wire::encode_modbus_frame(250, 0x03, std::vector<std::uint8_t>{0x00, 0x00, 0x00, 0x01}),
+      rig.scheduler.now(), BusRig::kBaud);
+  rig.bus.receive(
+      wire::encode_modbus_frame(250, 0x06, std::vector<std::uint8_t>{0x01, 0x00, 0x00, 0x01}),
+      rig.scheduler.now() + std::chrono::milliseconds(100), BusRig::kBaud);
+  rig.run();
+  CHECK(rig.link.deliveries().empty());
+  CHECK(servo.table().get("torque_enable") == 0);
+  // A broadcast write reaches it.
+  rig.bus.receive(
+      wire::encode_modbus_frame(0, 0x06, std::vector<std::uint8_t>{0x01, 0x00, 0x00, 0x01}),
+      rig.scheduler.now(), BusRig::kBaud);
+  rig.run();
+  CHECK(rig.link.deliveries().empty());
+  CHECK(servo.table().get("torque_enable") == 1);
 }
