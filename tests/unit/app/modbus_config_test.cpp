@@ -30,7 +30,7 @@ app::BusConfig one_port(std::vector<app::ServoConfig> servos) {
   return config;
 }
 
-TEST_CASE("\"protocol\": \"modbus\" sets Protocol Type 10; numbers and \"feetech\" as before",
+TEST_CASE("\"protocol\": \"modbus\" sets Protocol Type 10, and numbers and \"feetech\" as before",
           "[app][config][modbus]") {
   const auto config = parse(R"({"model": "ph42-020-s300-r", "ids": [1, 247], "protocol": "modbus"},
                                {"model": "ph54-200-s500-r", "id": 3, "protocol": 2})");
@@ -79,8 +79,9 @@ TEST_CASE("A Modbus servo's ID must be 1 ~ 247, from the shorthand or the item",
                     "items": {"protocol_type": 2}})") == "accepted");
 }
 
-TEST_CASE("--protocol modbus sets Protocol Type 10, refusing models and IDs it cannot take",
-          "[app][config][modbus]") {
+TEST_CASE(
+    "The option --protocol modbus sets Protocol Type 10, refusing models and IDs it cannot take",
+    "[app][config][modbus]") {
   app::BusConfig config = one_port({{"ph42-020-s300-r", 1, {}}, {"rh-p12-rna", 2, {}}});
   app::apply_bus_options(config, shipped_models(), std::nullopt, wire::Protocol::Modbus);
   CHECK(config.ports[0].servos[0].items == Items{{"protocol_type", 10}});

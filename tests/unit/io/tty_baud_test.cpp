@@ -10,8 +10,7 @@
 
 namespace dxlemu::test::tty_baud {
 
-TEST_CASE("8 data bits without parity are heard at their speed, two stop bits too",
-          "[io][tty]") {
+TEST_CASE("8 data bits without parity are heard at their speed, two stop bits too", "[io][tty]") {
   CHECK(io::heard_baud(CS8 | CREAD, 57600) == 57600);
   CHECK(io::heard_baud(CS8 | CSTOPB | CREAD, 1'000'000) == 1'000'000);
 }

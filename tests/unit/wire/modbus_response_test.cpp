@@ -44,7 +44,7 @@ TEST_CASE("A read's response gives its registers as control-table bytes, low byt
   CHECK(wire::registers_read(hex("04 07 E4 00 00")) == hex("E4 07 00 00"));
 }
 
-TEST_CASE("Write and Diagnostics responses come as they are; exceptions carry their code",
+TEST_CASE("Write and Diagnostics responses come as they are, and exceptions carry their code",
           "[wire][modbus]") {
   CHECK(response(hex("01 06 01 00 00 01 49 F6")) ==
         wire::ModbusResponse{1, 0x06, 0, hex("01 00 00 01")});
