@@ -273,8 +273,12 @@ StatusPacket decode_modbus_status(const Frame& frame) {
 
 std::vector<std::uint8_t> encode_modbus_frame(std::uint8_t address, std::uint8_t function,
                                               std::span<const std::uint8_t> data) {
-  std::vector<std::uint8_t> frame{address, function};
-  frame.insert(frame.end(), data.begin(), data.end());
+  // Sized once and copied into: g++ 12 at -O3 warns (-Warray-bounds) about its own inlined
+  // insert after a two-byte initialiser list.
+  std::vector<std::uint8_t> frame(2 + data.size());
+  frame[0] = address;
+  frame[1] = function;
+  std::copy(data.begin(), data.end(), frame.begin() + 2);
   append_crc(frame);
   return frame;
 }
