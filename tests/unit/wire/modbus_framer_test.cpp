@@ -13,7 +13,7 @@ using wire::Protocol;
 using Bytes = std::vector<std::uint8_t>;
 
 constexpr std::uint32_t kBaud = 57600;
-const wire::FrameShape& kShape = wire::traits(Protocol::Modbus).frame;
+constexpr const wire::FrameShape& kShape = wire::traits(Protocol::Modbus).frame;
 
 // Byte i of a write made at `at` starts i byte times (10 bits) later, as the bus stamps them.
 std::vector<sim::SimTime> back_to_back(sim::SimTime at, std::size_t count, std::uint32_t bps) {
